@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Quick start, command 2: install what is missing, build with warnings as errors, check the
+# formatting, and run every test: unit + validation (Release), then the unit tests again under
+# AddressSanitizer + UndefinedBehaviorSanitizer.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+
+echo "== clang-format"
+files=$(git ls-files '*.cpp' '*.hpp' 2>/dev/null || find src apps tests bench -name '*.[ch]pp')
+clang-format --dry-run --Werror $files
+
+echo "== release build + all tests"
+bash scripts/build.sh release
+ctest --preset release -j "$(nproc)"
+
+echo "== asan-ubsan build + unit tests"
+bash scripts/build.sh asan-ubsan
+ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --preset asan-ubsan -j "$(nproc)"

@@ -1,0 +1,164 @@
+#include "sable/collision/neighbor_list.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sable {
+
+template <int D>
+bool NeighborList<D>::needs_rebuild(const ParticleStore<D>& p,
+                                    const std::vector<Wall<D>>& walls) const {
+  if (x_ref.size() != p.size() || wall_ref.size() != walls.size()) return true;
+  double max_d2 = 0.0;
+  for (std::size_t k = 0; k < p.size(); ++k)
+    max_d2 = std::max(max_d2, (p.x[k] - x_ref[k]).squaredNorm());
+  double max_w2 = 0.0;
+  for (std::size_t w = 0; w < walls.size(); ++w)
+    max_w2 = std::max(max_w2, (walls[w].point - wall_ref[w]).squaredNorm());
+  const double dp = std::sqrt(max_d2), dw = std::sqrt(max_w2);
+  // Two grains close in by at most 2 dp; a grain and a wall by at most dp + dw.
+  return 2.0 * dp >= skin || dp + dw >= skin;
+}
+
+template <int D>
+void NeighborList<D>::build_cells(const ParticleStore<D>& p) {
+  const std::size_t n = p.size();
+  double rmax = 0.0;
+  for (double r : p.radius) rmax = std::max(rmax, r);
+  // Cells hold every partner within 2 rmax + skin; never more cells than ~4 per grain, so a
+  // huge domain with few grains costs memory O(N), not O(volume).
+  cell_size_ = std::max(2.0 * rmax + skin, 1e-300);
+  const Vec ext = (domain_hi - domain_lo).cwiseMax(cell_size_);
+  for (;;) {
+    std::size_t total = 1;
+    for (int d = 0; d < D; ++d) {
+      ncell_[d] = std::max(1, static_cast<int>(ext[d] / cell_size_));
+      total *= static_cast<std::size_t>(ncell_[d]);
+    }
+    if (total <= 4 * n + 64) break;
+    cell_size_ *= 1.26;
+  }
+  std::size_t total = 1;
+  for (int d = 0; d < D; ++d) total *= static_cast<std::size_t>(ncell_[d]);
+  cell_of_.resize(n);
+  cell_start_.assign(total + 1, 0);
+  for (std::size_t k = 0; k < n; ++k) {
+    std::size_t c = 0;
+    for (int d = D - 1; d >= 0; --d) {
+      // Grains outside the domain fall into the boundary cells: still correct, only slower.
+      int ci = static_cast<int>(std::floor((p.x[k][d] - domain_lo[d]) / cell_size_));
+      ci = std::clamp(ci, 0, ncell_[d] - 1);
+      c = c * static_cast<std::size_t>(ncell_[d]) + static_cast<std::size_t>(ci);
+    }
+    cell_of_[k] = static_cast<std::uint32_t>(c);
+    ++cell_start_[c + 1];
+  }
+  for (std::size_t c = 0; c < total; ++c) cell_start_[c + 1] += cell_start_[c];
+  cell_items_.resize(n);
+  scratch_.assign(cell_start_.begin(), cell_start_.end() - 1);
+  for (std::size_t k = 0; k < n; ++k)
+    cell_items_[scratch_[cell_of_[k]]++] = static_cast<std::uint32_t>(k);
+}
+
+template <int D>
+void NeighborList<D>::build_pairs(const ParticleStore<D>& p, PairList<D>& out) {
+  out.clear();
+  std::vector<std::uint32_t>& partners = scratch_;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    partners.clear();
+    std::array<int, D> ci;
+    std::size_t c = cell_of_[i];
+    for (int d = 0; d < D; ++d) {
+      ci[d] = static_cast<int>(c % static_cast<std::size_t>(ncell_[d]));
+      c /= static_cast<std::size_t>(ncell_[d]);
+    }
+    const int nstencil = D == 3 ? 27 : 9;
+    for (int s = 0; s < nstencil; ++s) {
+      std::size_t cell = 0;
+      bool inside = true;
+      int code = s;
+      for (int d = D - 1; d >= 0; --d) {
+        const int pow3 = d == 2 ? 9 : (d == 1 ? 3 : 1);
+        const int nb = ci[d] + (code / pow3) - 1;
+        code %= pow3;
+        if (nb < 0 || nb >= ncell_[d]) inside = false;
+        cell =
+            cell * static_cast<std::size_t>(ncell_[d]) + static_cast<std::size_t>(std::max(nb, 0));
+      }
+      if (!inside) continue;
+      for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
+        const std::uint32_t j = cell_items_[k];
+        if (j <= i) continue;
+        if ((p.inv_mass[i] == 0.0) && (p.inv_mass[j] == 0.0)) continue;  // two fixed grains
+        const double reach = p.radius[i] + p.radius[j] + skin;
+        if ((p.x[i] - p.x[j]).squaredNorm() < reach * reach) partners.push_back(j);
+      }
+    }
+    std::sort(partners.begin(), partners.end());
+    for (std::uint32_t j : partners) {
+      out.i.push_back(static_cast<std::uint32_t>(i));
+      out.j.push_back(j);
+    }
+  }
+  out.shear.assign(out.size(), Vec::Zero());
+  out.force.assign(out.size(), Vec::Zero());
+}
+
+template <int D>
+void NeighborList<D>::build_wall_pairs(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls,
+                                       WallPairList<D>& out) const {
+  out.clear();
+  Vec n;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.inv_mass[i] == 0.0) continue;
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      if (walls[w].distance(p.x[i], n) - p.radius[i] < skin) {
+        out.i.push_back(static_cast<std::uint32_t>(i));
+        out.wall.push_back(static_cast<std::uint32_t>(w));
+      }
+    }
+  }
+  out.shear.assign(out.size(), Vec::Zero());
+  out.force.assign(out.size(), Vec::Zero());
+}
+
+// Copy history of entries present in both sorted lists (keyed by (a, b)).
+template <class List, class KeyA, class KeyB>
+static void carry_history(const List& old_list, List& new_list, KeyA a, KeyB b) {
+  std::size_t o = 0;
+  for (std::size_t k = 0; k < new_list.size(); ++k) {
+    while (o < old_list.size() &&
+           (a(old_list)[o] < a(new_list)[k] ||
+            (a(old_list)[o] == a(new_list)[k] && b(old_list)[o] < b(new_list)[k])))
+      ++o;
+    if (o < old_list.size() && a(old_list)[o] == a(new_list)[k] &&
+        b(old_list)[o] == b(new_list)[k]) {
+      new_list.shear[k] = old_list.shear[o];
+      new_list.force[k] = old_list.force[o];
+    }
+  }
+}
+
+template <int D>
+void NeighborList<D>::build(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls) {
+  build_cells(p);
+  build_pairs(p, new_pairs_);
+  carry_history(
+      pairs, new_pairs_, [](const auto& l) -> const auto& { return l.i; },
+      [](const auto& l) -> const auto& { return l.j; });
+  std::swap(pairs, new_pairs_);
+  build_wall_pairs(p, walls, new_wall_pairs_);
+  carry_history(
+      wall_pairs, new_wall_pairs_, [](const auto& l) -> const auto& { return l.i; },
+      [](const auto& l) -> const auto& { return l.wall; });
+  std::swap(wall_pairs, new_wall_pairs_);
+  x_ref = p.x;
+  wall_ref.resize(walls.size());
+  for (std::size_t w = 0; w < walls.size(); ++w) wall_ref[w] = walls[w].point;
+  ++builds;
+}
+
+template class NeighborList<2>;
+template class NeighborList<3>;
+
+}  // namespace sable

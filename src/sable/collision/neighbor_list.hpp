@@ -1,0 +1,81 @@
+// Contact detection: linked cells + Verlet lists with a skin, rebuilt on displacement.
+//
+// Candidates are grain pairs (i < j, by slot) whose gap is below the skin, and (grain, wall)
+// pairs whose gap is below the skin. Both lists are kept sorted, and each entry carries the
+// contact's history (tangential spring) and its last force right beside it, so the force loop
+// streams through contiguous arrays. A rebuild merges old and new sorted lists to carry the
+// history of persisting contacts. Rebuilds happen when some grain (or wall) has moved far
+// enough that an unseen pair could touch: cost O(N) per step, memory O(N).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sable/core/particles.hpp"
+#include "sable/geometry/walls.hpp"
+
+namespace sable {
+
+template <int D>
+struct PairList {
+  using Vec = typename Space<D>::Vec;
+  std::vector<std::uint32_t> i, j;  // slots, i < j
+  std::vector<Vec> shear;           // tangential history (displacement)
+  std::vector<Vec> force;           // last force on i (0 when not touching)
+  std::size_t size() const { return i.size(); }
+  void clear() {
+    i.clear();
+    j.clear();
+    shear.clear();
+    force.clear();
+  }
+};
+
+template <int D>
+struct WallPairList {
+  using Vec = typename Space<D>::Vec;
+  std::vector<std::uint32_t> i;     // grain slot
+  std::vector<std::uint32_t> wall;  // wall index
+  std::vector<Vec> shear;
+  std::vector<Vec> force;  // last force on the grain
+  std::size_t size() const { return i.size(); }
+  void clear() {
+    i.clear();
+    wall.clear();
+    shear.clear();
+    force.clear();
+  }
+};
+
+template <int D>
+class NeighborList {
+ public:
+  using Vec = typename Space<D>::Vec;
+
+  double skin = 0.0;
+  Vec domain_lo = Vec::Zero(), domain_hi = Vec::Zero();  // cell grid extent
+  PairList<D> pairs;
+  WallPairList<D> wall_pairs;
+  std::vector<Vec> x_ref;     // positions at the last build
+  std::vector<Vec> wall_ref;  // wall points at the last build
+  std::uint64_t builds = 0;
+
+  // True when some pair not in the lists might now be touching.
+  bool needs_rebuild(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls) const;
+  void build(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls);
+
+ private:
+  void build_cells(const ParticleStore<D>& p);
+  void build_pairs(const ParticleStore<D>& p, PairList<D>& out);
+  void build_wall_pairs(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls,
+                        WallPairList<D>& out) const;
+
+  // Scratch reused between builds so a rebuild does not allocate once sizes have settled.
+  std::array<int, D> ncell_{};
+  double cell_size_ = 0.0;
+  std::vector<std::uint32_t> cell_of_, cell_start_, cell_items_, scratch_;
+  PairList<D> new_pairs_;
+  WallPairList<D> new_wall_pairs_;
+};
+
+}  // namespace sable

@@ -1,0 +1,86 @@
+// Particle storage: structure of arrays, one std::vector per field, indexed by slot.
+//
+// Hot fields (position, velocity, force, ...) are what the step touches every time; the id,
+// material and flags are read when needed. Slots are dense [0, size()); a grain's stable
+// ParticleId maps to its slot through the IdRegistry. No field is allocated per grain: adding
+// grains grows each vector, and the step itself never allocates.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sable/core/ids.hpp"
+#include "sable/core/material.hpp"
+#include "sable/core/space.hpp"
+
+namespace sable {
+
+enum ParticleFlags : std::uint8_t {
+  kFixed = 1u << 0,  // never moves: infinite mass for contacts, skipped by integration
+};
+
+// The shape of the grain. Disks (2D) and spheres (3D) now; polyhedra later add an index into a
+// shape table, which is why the kind is stored per grain and not per run.
+enum class ShapeKind : std::uint8_t { kRound = 0 };
+
+template <int D>
+struct ParticleStore {
+  using S = Space<D>;
+  using Vec = typename S::Vec;
+  using Rot = typename S::Rot;
+
+  // --- hot: touched every step
+  std::vector<Vec> x;  // centre position (m)
+  std::vector<Vec> v;  // velocity (m/s)
+  std::vector<Rot> w;  // angular velocity (rad/s)
+  std::vector<Vec> f;  // force (N)
+  std::vector<Rot> t;  // torque (N m)
+  std::vector<double> radius;
+  std::vector<double> inv_mass;     // 0 for fixed grains
+  std::vector<double> inv_inertia;  // 0 for fixed grains
+  std::vector<MaterialIndex> material;
+  std::vector<std::uint8_t> flags;
+  // --- warm: integrated, rarely read
+  std::vector<typename S::Orientation> q;
+  std::vector<double> mass;  // physical mass even for fixed grains (outputs, analysis)
+  // --- cold
+  std::vector<ParticleId> id;
+  std::vector<ShapeKind> shape;
+  IdRegistry ids;
+
+  std::size_t size() const { return x.size(); }
+  bool fixed(std::size_t i) const { return (flags[i] & kFixed) != 0; }
+
+  // Append a round grain. `thickness` is the out-of-plane depth of a 2D run (mass per
+  // thickness); it is ignored in 3D.
+  ParticleId add(const Vec& pos, double r, double density, MaterialIndex mat, double thickness,
+                 bool is_fixed = false) {
+    const auto slot = static_cast<std::uint32_t>(size());
+    const double m = grain_mass(r, density, thickness);
+    x.push_back(pos);
+    v.push_back(S::zero());
+    w.push_back(S::zero_rot());
+    f.push_back(S::zero());
+    t.push_back(S::zero_rot());
+    radius.push_back(r);
+    mass.push_back(m);
+    inv_mass.push_back(is_fixed ? 0.0 : 1.0 / m);
+    inv_inertia.push_back(is_fixed ? 0.0 : 1.0 / (inertia_factor() * m * r * r));
+    material.push_back(mat);
+    flags.push_back(is_fixed ? kFixed : 0);
+    q.push_back(S::identity());
+    shape.push_back(ShapeKind::kRound);
+    id.push_back(ids.create(slot));
+    return id.back();
+  }
+
+  // I = c m r^2: c = 2/5 for a solid sphere, 1/2 for a disk (a cylinder about its axis).
+  static constexpr double inertia_factor() { return D == 3 ? 0.4 : 0.5; }
+  static double grain_mass(double r, double density, double thickness) {
+    constexpr double pi = 3.14159265358979323846;
+    return D == 3 ? density * 4.0 / 3.0 * pi * r * r * r : density * pi * r * r * thickness;
+  }
+  static double grain_volume(double r, double thickness) { return grain_mass(r, 1.0, thickness); }
+};
+
+}  // namespace sable

@@ -1,0 +1,36 @@
+// Soft-contact DEM: velocity Verlet over grains, contact forces from the World's contact law.
+#pragma once
+
+#include "sable/world/solver.hpp"
+#include "sable/world/world.hpp"
+
+namespace sable {
+
+template <int D>
+class DemSolver final : public Solver {
+ public:
+  explicit DemSolver(World<D>& world) : w_(world) {}
+  std::string_view name() const override { return "dem"; }
+  void initialize() override;
+  void step() override;
+  const StepDiagnostics& diagnostics() const override { return diag_; }
+  const PhaseTimers& timers() const override { return timers_; }
+
+  // Forces and torques at the current positions and velocities (also updates contact history).
+  void compute_forces();
+
+ private:
+  void kick(double h);
+  void drift(double h);
+  void check_speeds() const;
+  template <class Normal>
+  void pair_forces();
+  template <class Normal>
+  void wall_forces();
+
+  World<D>& w_;
+  StepDiagnostics diag_;
+  PhaseTimers timers_;
+};
+
+}  // namespace sable

@@ -1,0 +1,40 @@
+// Named, timed phases of a step (as Box2D's b2World_Step profile): cheap enough to stay on.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <string_view>
+
+namespace sable {
+
+enum class Phase : int { kIntegrate, kNeighbors, kForces, kWallForces, kCount };
+inline constexpr std::array<std::string_view, static_cast<int>(Phase::kCount)> kPhaseNames = {
+    "integrate", "neighbors", "pair forces", "wall forces"};
+
+class PhaseTimers {
+ public:
+  using Clock = std::chrono::steady_clock;
+  class Scope {
+   public:
+    Scope(PhaseTimers& t, Phase p) : t_(t), p_(p), start_(Clock::now()) {}
+    ~Scope() {
+      t_.seconds_[static_cast<int>(p_)] +=
+          std::chrono::duration<double>(Clock::now() - start_).count();
+    }
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
+
+   private:
+    PhaseTimers& t_;
+    Phase p_;
+    Clock::time_point start_;
+  };
+  Scope time(Phase p) { return Scope(*this, p); }
+  double seconds(Phase p) const { return seconds_[static_cast<int>(p)]; }
+  void reset() { seconds_.fill(0.0); }
+
+ private:
+  std::array<double, static_cast<int>(Phase::kCount)> seconds_{};
+};
+
+}  // namespace sable

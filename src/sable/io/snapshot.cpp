@@ -1,0 +1,448 @@
+#include "sable/io/snapshot.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <optional>
+#include <utility>
+
+#include "sable/core/error.hpp"
+#include "sable/io/atomic_file.hpp"
+#include "sable/io/hdf5_file.hpp"
+
+namespace sable {
+
+namespace {
+
+// How one element of a per-grain array lays out as a row of doubles in a dataset.
+template <class T>
+struct Pack;
+
+template <>
+struct Pack<double> {
+  static constexpr hsize_t cols = 1;
+  static void put(double x, double* out) { out[0] = x; }
+  static double get(const double* in) { return in[0]; }
+};
+
+template <int K>
+struct Pack<Eigen::Matrix<double, K, 1>> {
+  using T = Eigen::Matrix<double, K, 1>;
+  static constexpr hsize_t cols = K;
+  static void put(const T& x, double* out) {
+    for (int k = 0; k < K; ++k) out[k] = x[k];
+  }
+  static T get(const double* in) {
+    T x;
+    for (int k = 0; k < K; ++k) x[k] = in[k];
+    return x;
+  }
+};
+
+template <>
+struct Pack<Eigen::Quaterniond> {
+  static constexpr hsize_t cols = 4;  // w, x, y, z
+  static void put(const Eigen::Quaterniond& q, double* out) {
+    out[0] = q.w();
+    out[1] = q.x();
+    out[2] = q.y();
+    out[3] = q.z();
+  }
+  static Eigen::Quaterniond get(const double* in) {
+    return Eigen::Quaterniond(in[0], in[1], in[2], in[3]);
+  }
+};
+
+template <class T>
+void write_rows(h5::File& f, const std::string& name, const std::vector<T>& v) {
+  constexpr hsize_t cols = Pack<T>::cols;
+  std::vector<double> flat(v.size() * cols);
+  for (std::size_t k = 0; k < v.size(); ++k) Pack<T>::put(v[k], flat.data() + k * cols);
+  f.write(name, flat, cols);
+}
+
+template <class T>
+std::vector<T> read_rows(const h5::File& f, const std::string& name,
+                         std::optional<hsize_t> rows = {}, const std::string& why = {}) {
+  constexpr hsize_t cols = Pack<T>::cols;
+  const std::vector<double> flat = f.read<double>(name, cols, rows, why);
+  std::vector<T> out;
+  out.reserve(flat.size() / cols);
+  for (std::size_t k = 0; k < flat.size(); k += cols) out.push_back(Pack<T>::get(flat.data() + k));
+  return out;
+}
+
+template <int D>
+void write_header(h5::File& f, const World<D>& w, const RunPosition& pos,
+                  const std::string& scenario_text) {
+  f.write_string("/scenario", scenario_text);
+  const auto rng = w.rng.state();
+  f.write("/rng_state", std::vector<std::uint64_t>(rng.begin(), rng.end()));
+  f.write_attr_string("/", "format", kSnapshotFormat);
+  f.write_attr("/", "version", kSnapshotVersion);
+  f.write_attr("/", "dimension", std::int32_t{D});
+  f.write_attr("/", "step", w.step);
+  f.write_attr("/", "time", w.time);
+  f.write_attr("/", "dt", w.dt);
+  f.write_attr("/", "stage", pos.stage);
+  f.write_attr("/", "stage_step", pos.stage_step);
+  f.write_attr("/", "state_hash", state_hash(w));
+}
+
+template <int D>
+void write_particles(h5::File& f, const ParticleStore<D>& p) {
+  write_rows(f, "/particles/x", p.x);
+  write_rows(f, "/particles/v", p.v);
+  write_rows(f, "/particles/w", p.w);
+  write_rows(f, "/particles/f", p.f);
+  write_rows(f, "/particles/t", p.t);
+  write_rows(f, "/particles/q", p.q);
+  f.write("/particles/radius", p.radius);
+  f.write("/particles/inv_mass", p.inv_mass);
+  f.write("/particles/inv_inertia", p.inv_inertia);
+  f.write("/particles/mass", p.mass);
+  f.write("/particles/material", p.material);
+  f.write("/particles/flags", p.flags);
+  std::vector<std::uint8_t> shape(p.size());
+  std::vector<std::uint32_t> id(2 * p.size());
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    shape[k] = static_cast<std::uint8_t>(p.shape[k]);
+    id[2 * k] = p.id[k].index;
+    id[2 * k + 1] = p.id[k].generation;
+  }
+  f.write("/particles/shape", shape);
+  f.write("/particles/id", id, 2);
+  f.write("/particles/ids/slots", p.ids.slots());
+  f.write("/particles/ids/generations", p.ids.generations());
+  f.write("/particles/ids/free_list", p.ids.free_list());
+}
+
+template <int D>
+void write_walls(h5::File& f, const std::vector<Wall<D>>& walls) {
+  std::vector<std::string> names;
+  std::vector<typename Space<D>::Vec> point, velocity, force;
+  for (const auto& wall : walls) {
+    names.push_back(wall.name);
+    point.push_back(wall.point);
+    velocity.push_back(wall.velocity);
+    force.push_back(wall.force);
+  }
+  f.write_strings("/walls/names", names);
+  write_rows(f, "/walls/point", point);
+  write_rows(f, "/walls/velocity", velocity);
+  write_rows(f, "/walls/force", force);
+}
+
+template <int D>
+void write_neighbors(h5::File& f, const NeighborList<D>& nl) {
+  f.write("/neighbors/domain_lo",
+          std::vector<double>(nl.domain_lo.data(), nl.domain_lo.data() + D));
+  f.write("/neighbors/domain_hi",
+          std::vector<double>(nl.domain_hi.data(), nl.domain_hi.data() + D));
+  write_rows(f, "/neighbors/x_ref", nl.x_ref);
+  write_rows(f, "/neighbors/wall_ref", nl.wall_ref);
+  f.write("/neighbors/pairs/i", nl.pairs.i);
+  f.write("/neighbors/pairs/j", nl.pairs.j);
+  write_rows(f, "/neighbors/pairs/shear", nl.pairs.shear);
+  write_rows(f, "/neighbors/pairs/force", nl.pairs.force);
+  f.write("/neighbors/wall_pairs/i", nl.wall_pairs.i);
+  f.write("/neighbors/wall_pairs/wall", nl.wall_pairs.wall);
+  write_rows(f, "/neighbors/wall_pairs/shear", nl.wall_pairs.shear);
+  write_rows(f, "/neighbors/wall_pairs/force", nl.wall_pairs.force);
+  f.write_attr("/neighbors", "skin", nl.skin);
+  f.write_attr("/neighbors", "builds", nl.builds);
+}
+
+// --- reading
+
+h5::File open_snapshot(const std::string& path) {
+  h5::File f = h5::File::open(path, fmt::format("snapshot '{}'", path));
+  if (!f.has_attr("/", "format")) {
+    f.fail(
+        fmt::format("not a Sable snapshot: the root group has no attribute 'format' "
+                    "(expected format = \"{}\")",
+                    kSnapshotFormat));
+  }
+  const std::string format = f.read_attr_string("/", "format");
+  if (format != kSnapshotFormat) {
+    f.fail(fmt::format("not a Sable snapshot: attribute 'format' on '/' is \"{}\", expected \"{}\"",
+                       format, kSnapshotFormat));
+  }
+  const auto version = f.read_attr<std::uint32_t>("/", "version");
+  if (version != kSnapshotVersion) {
+    f.fail(fmt::format("attribute 'version' on '/' is {}, but this build of Sable reads version {}",
+                       version, kSnapshotVersion));
+  }
+  return f;
+}
+
+// Everything load_snapshot reads, gathered and checked before the world is touched.
+template <int D>
+struct Loaded {
+  using Vec = typename Space<D>::Vec;
+  ParticleStore<D> particles;
+  std::vector<Vec> wall_point, wall_velocity, wall_force;
+  NeighborList<D> neighbors;
+  double time = 0.0, dt = 0.0;
+  std::uint64_t step = 0, hash = 0;
+  std::array<std::uint64_t, 4> rng{};
+  RunPosition pos;
+};
+
+template <int D>
+void check_ids(const h5::File& f, const ParticleStore<D>& p,
+               const std::vector<std::uint32_t>& slots, const std::vector<std::uint32_t>& gens,
+               const std::vector<std::uint32_t>& free) {
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const ParticleId id = p.id[k];
+    if (id.index >= slots.size() || slots[id.index] != k || gens[id.index] != id.generation) {
+      f.fail(
+          fmt::format("dataset '/particles/id' row {} (index {}, generation {}) does not match "
+                      "'/particles/ids/slots' and '/particles/ids/generations'",
+                      k, id.index, id.generation));
+    }
+  }
+  for (std::uint32_t index : free) {
+    if (index >= slots.size() || slots[index] != IdRegistry::kNoSlot) {
+      f.fail(
+          fmt::format("dataset '/particles/ids/free_list' holds index {}, which is not a free "
+                      "entry of '/particles/ids/slots'",
+                      index));
+    }
+  }
+}
+
+template <int D>
+void read_ids(const h5::File& f, ParticleStore<D>& p) {
+  const std::string why = "one per grain, as '/particles/x'";
+  const auto n = static_cast<hsize_t>(p.size());
+  const auto shape = f.read<std::uint8_t>("/particles/shape", 0, n, why);
+  for (std::size_t k = 0; k < shape.size(); ++k) {
+    if (shape[k] != static_cast<std::uint8_t>(ShapeKind::kRound))
+      f.fail(
+          fmt::format("dataset '/particles/shape' row {} is {}, expected 0 (round)", k, shape[k]));
+    p.shape.push_back(ShapeKind::kRound);
+  }
+  const auto id = f.read<std::uint32_t>("/particles/id", 2, n, why);
+  for (std::size_t k = 0; k < p.size(); ++k) p.id.push_back({id[2 * k], id[2 * k + 1]});
+  auto slots = f.read<std::uint32_t>("/particles/ids/slots", 0);
+  auto gens = f.read<std::uint32_t>("/particles/ids/generations", 0, slots.size(),
+                                    "one per id index, as '/particles/ids/slots'");
+  auto free = f.read<std::uint32_t>("/particles/ids/free_list", 0);
+  check_ids(f, p, slots, gens, free);
+  p.ids.restore(std::move(slots), std::move(gens), std::move(free));
+}
+
+template <int D>
+ParticleStore<D> read_particles(const h5::File& f, std::size_t materials) {
+  using S = Space<D>;
+  ParticleStore<D> p;
+  p.x = read_rows<typename S::Vec>(f, "/particles/x");
+  const auto n = static_cast<hsize_t>(p.size());
+  const std::string why = "one per grain, as '/particles/x'";
+  p.v = read_rows<typename S::Vec>(f, "/particles/v", n, why);
+  p.w = read_rows<typename S::Rot>(f, "/particles/w", n, why);
+  p.f = read_rows<typename S::Vec>(f, "/particles/f", n, why);
+  p.t = read_rows<typename S::Rot>(f, "/particles/t", n, why);
+  p.q = read_rows<typename S::Orientation>(f, "/particles/q", n, why);
+  p.radius = f.read<double>("/particles/radius", 0, n, why);
+  p.inv_mass = f.read<double>("/particles/inv_mass", 0, n, why);
+  p.inv_inertia = f.read<double>("/particles/inv_inertia", 0, n, why);
+  p.mass = f.read<double>("/particles/mass", 0, n, why);
+  p.material = f.read<MaterialIndex>("/particles/material", 0, n, why);
+  p.flags = f.read<std::uint8_t>("/particles/flags", 0, n, why);
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    if (p.material[k] >= materials) {
+      f.fail(
+          fmt::format("dataset '/particles/material' row {} is {}, but the scenario defines {} "
+                      "material(s)",
+                      k, p.material[k], materials));
+    }
+  }
+  read_ids(f, p);
+  return p;
+}
+
+template <int D>
+void read_walls(const h5::File& f, const std::vector<Wall<D>>& walls, Loaded<D>& out) {
+  using Vec = typename Space<D>::Vec;
+  const auto names = f.read_strings("/walls/names");
+  if (names.size() != walls.size()) {
+    f.fail(fmt::format("dataset '/walls/names' lists {} wall(s), but the scenario defines {}",
+                       names.size(), walls.size()));
+  }
+  for (std::size_t k = 0; k < walls.size(); ++k) {
+    if (names[k] != walls[k].name) {
+      f.fail(
+          fmt::format("dataset '/walls/names' row {} is \"{}\", but the scenario's wall {} is "
+                      "\"{}\"",
+                      k, names[k], k, walls[k].name));
+    }
+  }
+  const auto w = static_cast<hsize_t>(walls.size());
+  const std::string why = "one per wall, as '/walls/names'";
+  out.wall_point = read_rows<Vec>(f, "/walls/point", w, why);
+  out.wall_velocity = read_rows<Vec>(f, "/walls/velocity", w, why);
+  out.wall_force = read_rows<Vec>(f, "/walls/force", w, why);
+}
+
+template <int D>
+void check_pairs(const h5::File& f, const NeighborList<D>& nl, std::size_t n, std::size_t walls) {
+  for (std::size_t k = 0; k < nl.pairs.size(); ++k) {
+    if (!(nl.pairs.i[k] < nl.pairs.j[k] && nl.pairs.j[k] < n)) {
+      f.fail(
+          fmt::format("'/neighbors/pairs' row {} pairs slots {} and {}; expected i < j < {} "
+                      "(the number of grains)",
+                      k, nl.pairs.i[k], nl.pairs.j[k], n));
+    }
+  }
+  for (std::size_t k = 0; k < nl.wall_pairs.size(); ++k) {
+    if (nl.wall_pairs.i[k] >= n || nl.wall_pairs.wall[k] >= walls) {
+      f.fail(
+          fmt::format("'/neighbors/wall_pairs' row {} pairs slot {} with wall {}; expected a "
+                      "slot below {} and a wall below {}",
+                      k, nl.wall_pairs.i[k], nl.wall_pairs.wall[k], n, walls));
+    }
+  }
+}
+
+template <int D>
+void read_neighbors(const h5::File& f, std::size_t n, std::size_t walls, NeighborList<D>& nl) {
+  using Vec = typename Space<D>::Vec;
+  const auto lo = f.read<double>("/neighbors/domain_lo", 0, D, "one per dimension");
+  const auto hi = f.read<double>("/neighbors/domain_hi", 0, D, "one per dimension");
+  nl.domain_lo = Eigen::Map<const Vec>(lo.data());
+  nl.domain_hi = Eigen::Map<const Vec>(hi.data());
+  nl.skin = f.read_attr<double>("/neighbors", "skin");
+  nl.builds = f.read_attr<std::uint64_t>("/neighbors", "builds");
+  nl.x_ref = read_rows<Vec>(f, "/neighbors/x_ref");
+  nl.wall_ref = read_rows<Vec>(f, "/neighbors/wall_ref");
+  auto& pl = nl.pairs;
+  pl.i = f.read<std::uint32_t>("/neighbors/pairs/i", 0);
+  const auto np = static_cast<hsize_t>(pl.i.size());
+  const std::string why = "one per pair, as '/neighbors/pairs/i'";
+  pl.j = f.read<std::uint32_t>("/neighbors/pairs/j", 0, np, why);
+  pl.shear = read_rows<Vec>(f, "/neighbors/pairs/shear", np, why);
+  pl.force = read_rows<Vec>(f, "/neighbors/pairs/force", np, why);
+  auto& wl = nl.wall_pairs;
+  wl.i = f.read<std::uint32_t>("/neighbors/wall_pairs/i", 0);
+  const auto nw = static_cast<hsize_t>(wl.i.size());
+  const std::string wwhy = "one per wall pair, as '/neighbors/wall_pairs/i'";
+  wl.wall = f.read<std::uint32_t>("/neighbors/wall_pairs/wall", 0, nw, wwhy);
+  wl.shear = read_rows<Vec>(f, "/neighbors/wall_pairs/shear", nw, wwhy);
+  wl.force = read_rows<Vec>(f, "/neighbors/wall_pairs/force", nw, wwhy);
+  check_pairs(f, nl, n, walls);
+}
+
+template <int D>
+void read_clock(const h5::File& f, Loaded<D>& out) {
+  out.step = f.read_attr<std::uint64_t>("/", "step");
+  out.time = f.read_attr<double>("/", "time");
+  out.dt = f.read_attr<double>("/", "dt");
+  out.pos.stage = f.read_attr<std::uint32_t>("/", "stage");
+  out.pos.stage_step = f.read_attr<std::uint64_t>("/", "stage_step");
+  out.hash = f.read_attr<std::uint64_t>("/", "state_hash");
+  const auto rng = f.read<std::uint64_t>("/rng_state", 0, 4, "the 4 words of xoshiro256**");
+  std::copy(rng.begin(), rng.end(), out.rng.begin());
+}
+
+// Exchange the dynamic state of `w` with `s`; applying it twice restores both.
+template <int D>
+void swap_state(World<D>& w, Loaded<D>& s) {
+  using std::swap;
+  swap(w.particles, s.particles);
+  for (std::size_t k = 0; k < w.walls.size(); ++k) {
+    swap(w.walls[k].point, s.wall_point[k]);
+    swap(w.walls[k].velocity, s.wall_velocity[k]);
+    swap(w.walls[k].force, s.wall_force[k]);
+  }
+  auto& a = w.neighbors;
+  auto& b = s.neighbors;
+  swap(a.skin, b.skin);
+  swap(a.domain_lo, b.domain_lo);
+  swap(a.domain_hi, b.domain_hi);
+  swap(a.pairs, b.pairs);
+  swap(a.wall_pairs, b.wall_pairs);
+  swap(a.x_ref, b.x_ref);
+  swap(a.wall_ref, b.wall_ref);
+  swap(a.builds, b.builds);
+  swap(w.time, s.time);
+  swap(w.dt, s.dt);
+  swap(w.step, s.step);
+  const auto rng = w.rng.state();
+  w.rng.set_state(s.rng);
+  s.rng = rng;
+}
+
+}  // namespace
+
+template <int D>
+void save_snapshot(const World<D>& world, const RunPosition& pos, const std::string& scenario_text,
+                   const std::string& path) {
+  write_atomic(path, [&](const std::string& tmp) {
+    h5::File f = h5::File::create(tmp, fmt::format("snapshot '{}'", path));
+    write_header(f, world, pos, scenario_text);
+    write_particles(f, world.particles);
+    write_walls(f, world.walls);
+    write_neighbors(f, world.neighbors);
+    f.close();
+  });
+}
+
+template <int D>
+RunPosition load_snapshot(const std::string& path, World<D>& world, std::string* scenario_text) {
+  const h5::File f = open_snapshot(path);
+  const auto dim = f.read_attr<std::int32_t>("/", "dimension");
+  if (dim != D) {
+    f.fail(
+        fmt::format("attribute 'dimension' on '/' is {}: a {}D snapshot cannot be loaded into a "
+                    "{}D run",
+                    dim, dim, D));
+  }
+  Loaded<D> s;
+  read_clock(f, s);
+  s.particles = read_particles<D>(f, world.materials.size());
+  read_walls(f, world.walls, s);
+  read_neighbors(f, s.particles.size(), world.walls.size(), s.neighbors);
+  std::string text = f.read_string("/scenario");
+  swap_state(world, s);
+  if (const std::uint64_t h = state_hash(world); h != s.hash) {
+    swap_state(world, s);  // put the caller's world back as it was
+    f.fail(
+        fmt::format("the loaded state hashes to {:016x}, but attribute 'state_hash' on '/' is "
+                    "{:016x}: the file is corrupt or was written by an incompatible build",
+                    h, s.hash));
+  }
+  if (scenario_text != nullptr) *scenario_text = std::move(text);
+  return s.pos;
+}
+
+SnapshotInfo read_snapshot_info(const std::string& path) {
+  const h5::File f = open_snapshot(path);
+  SnapshotInfo info;
+  info.dimension = f.read_attr<std::int32_t>("/", "dimension");
+  if (info.dimension != 2 && info.dimension != 3)
+    f.fail(fmt::format("attribute 'dimension' on '/' is {}, expected 2 or 3", info.dimension));
+  info.step = f.read_attr<std::uint64_t>("/", "step");
+  info.time = f.read_attr<double>("/", "time");
+  info.dt = f.read_attr<double>("/", "dt");
+  info.pos.stage = f.read_attr<std::uint32_t>("/", "stage");
+  info.pos.stage_step = f.read_attr<std::uint64_t>("/", "stage_step");
+  info.state_hash = f.read_attr<std::uint64_t>("/", "state_hash");
+  info.grains = f.shape("/particles/x").rows;
+  info.pairs = f.shape("/neighbors/pairs/i").rows;
+  info.wall_pairs = f.shape("/neighbors/wall_pairs/i").rows;
+  info.walls = f.shape("/walls/point").rows;
+  info.scenario_text = f.read_string("/scenario");
+  return info;
+}
+
+template void save_snapshot<2>(const World<2>&, const RunPosition&, const std::string&,
+                               const std::string&);
+template void save_snapshot<3>(const World<3>&, const RunPosition&, const std::string&,
+                               const std::string&);
+template RunPosition load_snapshot<2>(const std::string&, World<2>&, std::string*);
+template RunPosition load_snapshot<3>(const std::string&, World<3>&, std::string*);
+
+}  // namespace sable

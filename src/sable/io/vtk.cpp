@@ -1,0 +1,446 @@
+#include "sable/io/vtk.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <sstream>
+
+#include "sable/core/error.hpp"
+#include "sable/io/atomic_file.hpp"
+
+namespace sable {
+
+namespace {
+
+using P3 = std::array<double, 3>;
+using Buf = fmt::memory_buffer;
+
+// 9 significant digits: every value is exact to float precision; doubles read back within
+// one part in 1e9, plenty for plots and post-processing.
+constexpr const char* kReal = "{:.9g}";
+
+std::string xml_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+std::string xml_unescape(const std::string& s) {
+  static const std::pair<const char*, char> kEntities[] = {
+      {"&amp;", '&'}, {"&lt;", '<'}, {"&gt;", '>'}, {"&quot;", '"'}, {"&apos;", '\''}};
+  std::string out;
+  for (std::size_t k = 0; k < s.size();) {
+    bool replaced = false;
+    for (const auto& [entity, c] : kEntities) {
+      if (s.compare(k, std::char_traits<char>::length(entity), entity) == 0) {
+        out += c;
+        k += std::char_traits<char>::length(entity);
+        replaced = true;
+        break;
+      }
+    }
+    if (!replaced) out += s[k++];
+  }
+  return out;
+}
+
+struct CellCounts {
+  std::size_t points = 0, verts = 0, lines = 0, polys = 0;
+};
+
+void begin_piece(Buf& b, const CellCounts& c) {
+  fmt::format_to(std::back_inserter(b),
+                 "<?xml version=\"1.0\"?>\n"
+                 "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
+                 "header_type=\"UInt64\">\n<PolyData>\n"
+                 "<Piece NumberOfPoints=\"{}\" NumberOfVerts=\"{}\" NumberOfLines=\"{}\" "
+                 "NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
+                 c.points, c.verts, c.lines, c.polys);
+}
+
+void end_piece(Buf& b) {
+  fmt::format_to(std::back_inserter(b), "</Piece>\n</PolyData>\n</VTKFile>\n");
+}
+
+// A Float64 array of `comps` components per tuple.
+void real_array(Buf& b, const char* name, int comps, const std::vector<double>& values) {
+  fmt::format_to(std::back_inserter(b),
+                 "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" "
+                 "format=\"ascii\">\n",
+                 name, comps);
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    fmt::format_to(std::back_inserter(b), fmt::runtime(kReal), values[k]);
+    b.push_back((k + 1) % static_cast<std::size_t>(comps) == 0 ? '\n' : ' ');
+  }
+  fmt::format_to(std::back_inserter(b), "</DataArray>\n");
+}
+
+template <class I>
+void int_array(Buf& b, const char* type, const char* name, const std::vector<I>& values) {
+  fmt::format_to(std::back_inserter(b), "<DataArray type=\"{}\" Name=\"{}\" format=\"ascii\">\n",
+                 type, name);
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    fmt::format_to(std::back_inserter(b), "{}", static_cast<std::int64_t>(values[k]));
+    b.push_back((k + 1) % 16 == 0 || k + 1 == values.size() ? '\n' : ' ');
+  }
+  fmt::format_to(std::back_inserter(b), "</DataArray>\n");
+}
+
+void points_section(Buf& b, const std::vector<double>& xyz) {
+  fmt::format_to(std::back_inserter(b), "<Points>\n");
+  real_array(b, "Points", 3, xyz);
+  fmt::format_to(std::back_inserter(b), "</Points>\n");
+}
+
+// A Verts, Lines or Polys section from each cell's point indices.
+void cells_section(Buf& b, const char* tag, const std::vector<std::vector<std::int64_t>>& cells) {
+  std::vector<std::int64_t> connectivity, offsets;
+  for (const auto& cell : cells) {
+    connectivity.insert(connectivity.end(), cell.begin(), cell.end());
+    offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
+  }
+  fmt::format_to(std::back_inserter(b), "<{}>\n", tag);
+  int_array(b, "Int64", "connectivity", connectivity);
+  int_array(b, "Int64", "offsets", offsets);
+  fmt::format_to(std::back_inserter(b), "</{}>\n", tag);
+}
+
+void append3(std::vector<double>& out, const P3& p) {
+  out.insert(out.end(), p.begin(), p.end());
+}
+
+template <class V>
+bool nonzero(const V& f) {
+  return (f.array() != 0.0).any();
+}
+
+// Touching contacts (non-zero last force) per grain, grain-grain and grain-wall.
+template <int D>
+std::vector<std::int32_t> coordination(const World<D>& w) {
+  const std::size_t n = w.particles.size();
+  std::vector<std::int32_t> z(n, 0);
+  const auto& pl = w.neighbors.pairs;
+  for (std::size_t k = 0; k < pl.size(); ++k) {
+    if (!nonzero(pl.force[k]) || pl.i[k] >= n || pl.j[k] >= n) continue;
+    ++z[pl.i[k]];
+    ++z[pl.j[k]];
+  }
+  const auto& wl = w.neighbors.wall_pairs;
+  for (std::size_t k = 0; k < wl.size(); ++k)
+    if (nonzero(wl.force[k]) && wl.i[k] < n) ++z[wl.i[k]];
+  return z;
+}
+
+}  // namespace
+
+template <int D>
+void write_grains_vtp(const World<D>& world, const std::string& path) {
+  using S = Space<D>;
+  const auto& p = world.particles;
+  const std::size_t n = p.size();
+  std::vector<double> xyz, vel, omega, force;
+  std::vector<std::int64_t> ids;
+  std::vector<std::int32_t> material;
+  std::vector<std::uint8_t> fixed;
+  std::vector<std::vector<std::int64_t>> verts;
+  for (std::size_t k = 0; k < n; ++k) {
+    append3(xyz, S::to_array(p.x[k]));
+    append3(vel, S::to_array(p.v[k]));
+    append3(omega, S::rot_to_array(p.w[k]));
+    append3(force, S::to_array(p.f[k]));
+    ids.push_back(p.id[k].index);
+    material.push_back(p.material[k]);
+    fixed.push_back(p.fixed(k) ? 1 : 0);
+    verts.push_back({static_cast<std::int64_t>(k)});
+  }
+  Buf b;
+  begin_piece(b, {n, n, 0, 0});
+  fmt::format_to(std::back_inserter(b), "<PointData Scalars=\"radius\" Vectors=\"velocity\">\n");
+  int_array(b, "Int64", "id", ids);
+  real_array(b, "radius", 1, p.radius);
+  real_array(b, "velocity", 3, vel);
+  real_array(b, "angular_velocity", 3, omega);
+  real_array(b, "force", 3, force);
+  int_array(b, "Int32", "coordination", coordination(world));
+  int_array(b, "Int32", "material", material);
+  int_array(b, "UInt8", "fixed", fixed);
+  fmt::format_to(std::back_inserter(b), "</PointData>\n");
+  points_section(b, xyz);
+  cells_section(b, "Verts", verts);
+  end_piece(b);
+  write_text_atomic(path, fmt::to_string(b));
+}
+
+template <int D>
+void write_contacts_vtp(const World<D>& world, const std::string& path) {
+  using S = Space<D>;
+  using Vec = typename S::Vec;
+  const auto& p = world.particles;
+  const auto& pl = world.neighbors.pairs;
+  std::vector<double> xyz, fn, fn_vec, ft_vec;
+  std::vector<std::int64_t> id_i, id_j;
+  std::vector<std::vector<std::int64_t>> lines;
+  for (std::size_t k = 0; k < pl.size(); ++k) {
+    const std::uint32_t i = pl.i[k], j = pl.j[k];
+    if (!nonzero(pl.force[k]) || i >= p.size() || j >= p.size()) continue;
+    const Vec d = p.x[i] - p.x[j];
+    const double dist = d.norm();
+    const Vec n = dist > 0.0 ? Vec(d / dist) : Vec(Vec::Zero());
+    const Vec& f = pl.force[k];
+    const double f_n = f.dot(n);
+    append3(xyz, S::to_array(p.x[i]));
+    append3(xyz, S::to_array(p.x[j]));
+    const auto first = static_cast<std::int64_t>(lines.size() * 2);
+    lines.push_back({first, first + 1});
+    fn.push_back(f_n);
+    append3(fn_vec, S::to_array(Vec(f_n * n)));
+    append3(ft_vec, S::to_array(Vec(f - f_n * n)));
+    id_i.push_back(p.id[i].index);
+    id_j.push_back(p.id[j].index);
+  }
+  Buf b;
+  begin_piece(b, {2 * lines.size(), 0, lines.size(), 0});
+  fmt::format_to(std::back_inserter(b), "<CellData Scalars=\"normal_force\">\n");
+  real_array(b, "normal_force", 1, fn);
+  real_array(b, "normal_force_vector", 3, fn_vec);
+  real_array(b, "tangential_force", 3, ft_vec);
+  int_array(b, "Int64", "id_i", id_i);
+  int_array(b, "Int64", "id_j", id_j);
+  fmt::format_to(std::back_inserter(b), "</CellData>\n");
+  points_section(b, xyz);
+  cells_section(b, "Lines", lines);
+  end_piece(b);
+  write_text_atomic(path, fmt::to_string(b));
+}
+
+namespace {
+
+// Wall outlines as 3D points and cells (lines in 2D, polygons in 3D) with their wall index.
+struct WallMesh {
+  std::vector<double> xyz;
+  std::vector<std::vector<std::int64_t>> cells;
+  std::vector<std::int32_t> wall;
+
+  std::int64_t point(const P3& p) {
+    append3(xyz, p);
+    return static_cast<std::int64_t>(xyz.size() / 3 - 1);
+  }
+};
+
+// Corners of the intersection of a plane with the box lo..hi, ordered around the polygon so
+// that its right-hand normal is the wall normal (3D), or the two ends of the segment (2D).
+template <int D>
+std::vector<typename Space<D>::Vec> clip_plane(const Wall<D>& wall,
+                                               const typename Space<D>::Vec& lo,
+                                               const typename Space<D>::Vec& hi) {
+  using Vec = typename Space<D>::Vec;
+  const double diag = (hi - lo).norm();
+  std::vector<Vec> pts;
+  if (!((hi - lo).array() > 0.0).all()) return pts;
+  const double tol = 1e-12 * diag;
+  auto corner = [&](int mask) {
+    Vec c;
+    for (int d = 0; d < D; ++d) c[d] = (mask >> d) & 1 ? hi[d] : lo[d];
+    return c;
+  };
+  auto add = [&](const Vec& c) {
+    for (const Vec& q : pts)
+      if ((q - c).norm() <= 1e-9 * diag) return;
+    pts.push_back(c);
+  };
+  for (int m = 0; m < (1 << D); ++m) {
+    for (int d = 0; d < D; ++d) {
+      if ((m >> d) & 1) continue;
+      const Vec a = corner(m), c = corner(m | (1 << d));
+      const double sa = (a - wall.point).dot(wall.normal), sc = (c - wall.point).dot(wall.normal);
+      if (std::abs(sa) <= tol) add(a);
+      if (std::abs(sc) <= tol) add(c);
+      if ((sa < -tol && sc > tol) || (sa > tol && sc < -tol)) add(a + (c - a) * (sa / (sa - sc)));
+    }
+  }
+  if (pts.size() < static_cast<std::size_t>(D)) return {};
+  Vec centre = Vec::Zero();
+  for (const Vec& q : pts) centre += q / static_cast<double>(pts.size());
+  std::vector<double> key(pts.size());
+  if constexpr (D == 2) {
+    const Vec t(-wall.normal.y(), wall.normal.x());
+    for (std::size_t k = 0; k < pts.size(); ++k) key[k] = (pts[k] - centre).dot(t);
+  } else {
+    const Vec n = wall.normal.normalized();
+    const Vec u = n.unitOrthogonal(), v = n.cross(u);
+    for (std::size_t k = 0; k < pts.size(); ++k)
+      key[k] = std::atan2((pts[k] - centre).dot(v), (pts[k] - centre).dot(u));
+  }
+  std::vector<std::size_t> order(pts.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t c) { return key[a] < key[c]; });
+  std::vector<Vec> out;
+  for (std::size_t k : order) out.push_back(pts[k]);
+  if constexpr (D == 2) return {out.front(), out.back()};
+  return out;
+}
+
+// A 64-sided inside-cylinder: triangles facing the axis in 3D, a closed polyline in 2D.
+template <int D>
+void cylinder_cells(const Wall<D>& wall, const World<D>& world, std::int32_t index,
+                    WallMesh& mesh) {
+  constexpr int kSides = 64;
+  constexpr double kTwoPi = 6.283185307179586476925;
+  const auto c = Space<D>::to_array(wall.point);
+  std::vector<std::int64_t> bottom, top;
+  for (int s = 0; s < kSides; ++s) {
+    const double a = kTwoPi * s / kSides;
+    const double x = c[0] + wall.radius * std::cos(a), y = c[1] + wall.radius * std::sin(a);
+    if constexpr (D == 3) {
+      bottom.push_back(mesh.point({x, y, world.neighbors.domain_lo.z()}));
+      top.push_back(mesh.point({x, y, world.neighbors.domain_hi.z()}));
+    } else {
+      bottom.push_back(mesh.point({x, y, 0.0}));
+    }
+  }
+  if constexpr (D == 2) {
+    bottom.push_back(bottom.front());
+    mesh.cells.push_back(bottom);
+    mesh.wall.push_back(index);
+    return;
+  }
+  for (int s = 0; s < kSides; ++s) {
+    const int t = (s + 1) % kSides;
+    mesh.cells.push_back({bottom[s], top[t], bottom[t]});
+    mesh.cells.push_back({bottom[s], top[s], top[t]});
+    mesh.wall.push_back(index);
+    mesh.wall.push_back(index);
+  }
+}
+
+}  // namespace
+
+template <int D>
+void write_walls_vtp(const World<D>& world, const std::string& path) {
+  using S = Space<D>;
+  WallMesh mesh;
+  for (std::size_t k = 0; k < world.walls.size(); ++k) {
+    const Wall<D>& wall = world.walls[k];
+    const auto index = static_cast<std::int32_t>(k);
+    if (wall.kind == WallKind::kCylinderInside) {
+      cylinder_cells(wall, world, index, mesh);
+      continue;
+    }
+    std::vector<std::int64_t> cell;
+    for (const auto& q : clip_plane(wall, world.neighbors.domain_lo, world.neighbors.domain_hi))
+      cell.push_back(mesh.point(S::to_array(q)));
+    if (cell.empty()) continue;
+    mesh.cells.push_back(cell);
+    mesh.wall.push_back(index);
+  }
+  std::vector<double> force;
+  for (std::int32_t k : mesh.wall) append3(force, S::to_array(world.walls[k].force));
+  const std::size_t ncells = mesh.cells.size();
+  Buf b;
+  begin_piece(b, {mesh.xyz.size() / 3, 0, D == 2 ? ncells : 0, D == 3 ? ncells : 0});
+  fmt::format_to(std::back_inserter(b), "<CellData Scalars=\"wall\" Vectors=\"force\">\n");
+  int_array(b, "Int32", "wall", mesh.wall);
+  real_array(b, "force", 3, force);
+  fmt::format_to(std::back_inserter(b), "</CellData>\n");
+  points_section(b, mesh.xyz);
+  cells_section(b, D == 2 ? "Lines" : "Polys", mesh.cells);
+  end_piece(b);
+  write_text_atomic(path, fmt::to_string(b));
+}
+
+// --- PvdSeries
+
+PvdSeries::PvdSeries(std::string path) : path_(std::move(path)) {}
+
+namespace {
+
+// The value of attribute `name` in one XML start tag, or nullopt.
+std::optional<std::string> xml_attr(const std::string& tag, const std::string& name) {
+  const std::string key = " " + name + "=\"";
+  const auto start = tag.find(key);
+  if (start == std::string::npos) return std::nullopt;
+  const auto from = start + key.size();
+  const auto end = tag.find('"', from);
+  if (end == std::string::npos) return std::nullopt;
+  return xml_unescape(tag.substr(from, end - from));
+}
+
+}  // namespace
+
+PvdSeries::PvdSeries(std::string path, double resume_time) : path_(std::move(path)) {
+  std::ifstream in(path_);
+  if (!in) return;  // nothing written yet: start a new series
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  for (auto pos = text.find("<DataSet"); pos != std::string::npos;
+       pos = text.find("<DataSet", pos + 1)) {
+    const std::string tag = text.substr(pos, text.find('>', pos) - pos);
+    const auto time = xml_attr(tag, "timestep");
+    const auto file = xml_attr(tag, "file");
+    if (!time || !file) throw InputError(fmt::format("'{}': unreadable DataSet entry", path_));
+    char* end = nullptr;
+    const double t = std::strtod(time->c_str(), &end);
+    if (end == time->c_str())
+      throw InputError(fmt::format("'{}': bad timestep \"{}\"", path_, *time));
+    if (t <= resume_time) entries_.emplace_back(t, *file);
+  }
+  write();
+}
+
+void PvdSeries::add(double time, const std::string& file_relative) {
+  entries_.emplace_back(time, file_relative);
+  write();
+}
+
+void PvdSeries::write() const {
+  Buf b;
+  fmt::format_to(std::back_inserter(b),
+                 "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" "
+                 "byte_order=\"LittleEndian\">\n<Collection>\n");
+  // Times with 17 digits: a resumed series compares them exactly with the snapshot time.
+  for (const auto& [t, file] : entries_) {
+    fmt::format_to(std::back_inserter(b),
+                   "  <DataSet timestep=\"{:.17g}\" group=\"\" part=\"0\" file=\"{}\"/>\n", t,
+                   xml_escape(file));
+  }
+  fmt::format_to(std::back_inserter(b), "</Collection>\n</VTKFile>\n");
+  write_text_atomic(path_, fmt::to_string(b));
+}
+
+template void write_grains_vtp<2>(const World<2>&, const std::string&);
+template void write_grains_vtp<3>(const World<3>&, const std::string&);
+template void write_contacts_vtp<2>(const World<2>&, const std::string&);
+template void write_contacts_vtp<3>(const World<3>&, const std::string&);
+template void write_walls_vtp<2>(const World<2>&, const std::string&);
+template void write_walls_vtp<3>(const World<3>&, const std::string&);
+
+}  // namespace sable

@@ -1,0 +1,55 @@
+// VTK XML PolyData output (.vtp, ASCII) for ParaView, and .pvd time-series collections.
+//
+// Three files describe a moment of a run: the grains (points with per-grain data and a vertex
+// cell each so ParaView draws them), the touching contacts (a line between the two centres,
+// with the normal and tangential force), and the walls (planes clipped to the neighbour-list
+// domain box, cylinders as a triangulated side surface). 2D runs write z = 0 and the angular
+// velocity as (0, 0, w). Every file is replaced atomically (temporary + rename).
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sable/world/world.hpp"
+
+namespace sable {
+
+// PointData: id (stable id index), radius, velocity, angular_velocity, force, coordination
+// (touching grain and wall contacts), material, fixed.
+template <int D>
+void write_grains_vtp(const World<D>& world, const std::string& path);
+
+// One line cell per touching grain pair. CellData: normal_force (f.n, n from j to i; positive
+// when pushing apart), normal_force_vector, tangential_force (force on grain i), id_i, id_j.
+template <int D>
+void write_contacts_vtp(const World<D>& world, const std::string& path);
+
+// Planes clipped to world.neighbors.domain_lo..hi (a polygon in 3D, a segment in 2D; a plane
+// that misses the box draws nothing), inside-cylinders as 64-sided side surfaces from
+// domain_lo.z to domain_hi.z (a circle in 2D). CellData: wall (index), force (on the wall).
+template <int D>
+void write_walls_vtp(const World<D>& world, const std::string& path);
+
+// A ParaView .pvd collection of time steps, rewritten atomically after each add.
+class PvdSeries {
+ public:
+  explicit PvdSeries(std::string path);
+  // Resuming a run: keep the entries of an existing `path` with time <= `resume_time`, so the
+  // series continues without the steps the resumed run will write again.
+  PvdSeries(std::string path, double resume_time);
+
+  // Record `file_relative` (relative to the .pvd's directory) at `time` and rewrite the file.
+  void add(double time, const std::string& file_relative);
+
+  const std::string& path() const { return path_; }
+  const std::vector<std::pair<double, std::string>>& entries() const { return entries_; }
+
+ private:
+  void write() const;
+
+  std::string path_;
+  std::vector<std::pair<double, std::string>> entries_;
+};
+
+}  // namespace sable

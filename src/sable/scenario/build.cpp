@@ -1,0 +1,151 @@
+#include "sable/scenario/build.hpp"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "sable/core/error.hpp"
+#include "sable/generation/generate.hpp"
+
+namespace sable {
+namespace {
+
+// Names were checked by the parser, so the lookup cannot fail here.
+template <int D>
+MaterialIndex material_index(const World<D>& w, const std::string& name) {
+  return *w.materials.find(name);
+}
+
+template <int D>
+void add_walls(const WallConfig& wc, World<D>& w) {
+  using S = Space<D>;
+  Wall<D> wall;
+  wall.material = material_index(w, wc.material);
+  wall.velocity = S::from_array(wc.velocity);
+  if (wc.type == "plane") {
+    wall.name = wc.name;
+    wall.point = S::from_array(wc.point);
+    wall.normal = S::from_array(wc.normal).normalized();
+    w.walls.push_back(wall);
+  } else if (wc.type == "cylinder") {
+    wall.name = wc.name;
+    wall.kind = WallKind::kCylinderInside;
+    wall.point = S::from_array({wc.center[0], wc.center[1], 0.0});
+    wall.radius = wc.radius;
+    w.walls.push_back(wall);
+  } else {  // box: one plane per face, normals pointing inwards
+    static constexpr const char* axes = "xyz";
+    for (int d = 0; d < D; ++d) {
+      for (int side = 0; side < 2; ++side) {
+        Wall<D> face = wall;
+        face.name = fmt::format("{}.{}{}", wc.name, axes[d], side == 0 ? "lo" : "hi");
+        face.point = S::from_array(side == 0 ? wc.lo : wc.hi);
+        face.normal = S::zero();
+        face.normal[d] = side == 0 ? 1.0 : -1.0;
+        w.walls.push_back(face);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+template <int D>
+void build_model(const ScenarioConfig& cfg, World<D>& w) {
+  using S = Space<D>;
+  for (const auto& m : cfg.materials) w.materials.add(m.material);
+  for (const auto& o : cfg.overrides) {
+    PairOverride po;
+    po.a = material_index(w, o.a);
+    po.b = material_index(w, o.b);
+    po.friction = o.friction;
+    po.restitution = o.restitution;
+    w.materials.add_override(po);
+  }
+  w.materials.finalize();
+  const auto& c = cfg.contact;
+  w.model.normal = c.normal == "linear" ? NormalModel::kLinear : NormalModel::kHertz;
+  w.model.tangential = c.tangential == "none" ? TangentialModel::kNone : TangentialModel::kHistory;
+  w.model.attractive_damping = c.attractive_damping;
+  w.model.kn = c.kn;
+  w.model.kt = c.kt;
+  for (const auto& wc : cfg.walls) add_walls(wc, w);
+  w.gravity = S::from_array(cfg.sim.gravity);
+  w.thickness = cfg.sim.thickness;
+  w.overlap_warning = cfg.sim.overlap_warning;
+  w.max_speed = cfg.sim.max_speed;
+  w.rng.reseed(cfg.sim.seed);
+  w.neighbors.domain_lo = S::from_array(cfg.domain.lo);
+  w.neighbors.domain_hi = S::from_array(cfg.domain.hi);
+}
+
+template <int D>
+void build_grains(const ScenarioConfig& cfg, World<D>& w) {
+  using S = Space<D>;
+  std::vector<GrainSeed> all;
+  for (std::size_t b = 0; b < cfg.grains.size(); ++b) {
+    const GrainsConfig& block = cfg.grains[b];
+    // Each block gets its own stream: adding a block does not change the grains of the others.
+    const std::uint64_t seed = block.seed.value_or(cfg.sim.seed + 0x9e3779b97f4a7c15ULL * (b + 1));
+    const auto seeds = generate_grains(block, D, seed, all);
+    const MaterialIndex mat = material_index(w, block.material);
+    const Material& m = w.materials[mat];
+    for (const auto& g : seeds) {
+      w.particles.add(S::from_array(g.x), g.radius, m.density, mat, cfg.sim.thickness, block.fixed);
+      if (!block.fixed) w.particles.v.back() = S::from_array(block.velocity);
+    }
+    all.insert(all.end(), seeds.begin(), seeds.end());
+  }
+  double rmax = 0.0;
+  for (double r : w.particles.radius) rmax = std::max(rmax, r);
+  w.neighbors.skin = cfg.sim.skin.value_or(0.5 * rmax);
+  w.dt = cfg.sim.dt ? *cfg.sim.dt : automatic_time_step(cfg, w);
+}
+
+template <int D>
+double automatic_time_step(const ScenarioConfig& cfg, const World<D>& w) {
+  const auto& p = w.particles;
+  double t_crit = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const Material& m = w.materials[p.material[k]];
+    if (w.model.normal == NormalModel::kHertz) {
+      // Rayleigh time: the time a shear wave takes to cross the grain (LIGGGHTS' criterion).
+      const double g = m.young / (2.0 * (1.0 + m.poisson));
+      const double tr =
+          std::numbers::pi * p.radius[k] * std::sqrt(m.density / g) / (0.1631 * m.poisson + 0.8766);
+      t_crit = std::min(t_crit, tr);
+    } else {
+      // 1/omega of the stiffer of the two springs acting on the lightest grain pair.
+      t_crit = std::min(t_crit, std::sqrt(0.5 * p.mass[k] / std::max(w.model.kn, w.model.kt)));
+    }
+  }
+  if (!std::isfinite(t_crit))
+    throw InputError(
+        fmt::format("{}: simulation.dt is required when the scenario has no grains", cfg.path));
+  return cfg.sim.dt_safety * t_crit;
+}
+
+template <int D>
+std::vector<std::size_t> walls_named(const World<D>& w, const std::string& key) {
+  std::vector<std::size_t> out;
+  for (std::size_t k = 0; k < w.walls.size(); ++k) {
+    const std::string& n = w.walls[k].name;
+    if (n == key ||
+        (n.size() > key.size() && n.compare(0, key.size(), key) == 0 && n[key.size()] == '.'))
+      out.push_back(k);
+  }
+  return out;
+}
+
+template void build_model<2>(const ScenarioConfig&, World<2>&);
+template void build_model<3>(const ScenarioConfig&, World<3>&);
+template void build_grains<2>(const ScenarioConfig&, World<2>&);
+template void build_grains<3>(const ScenarioConfig&, World<3>&);
+template double automatic_time_step<2>(const ScenarioConfig&, const World<2>&);
+template double automatic_time_step<3>(const ScenarioConfig&, const World<3>&);
+template std::vector<std::size_t> walls_named<2>(const World<2>&, const std::string&);
+template std::vector<std::size_t> walls_named<3>(const World<3>&, const std::string&);
+
+}  // namespace sable

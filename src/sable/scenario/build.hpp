@@ -1,0 +1,28 @@
+// From a validated ScenarioConfig to a ready World<D>: materials, contact law, walls, grains,
+// time step. The world is not initialised (no neighbour list yet): the solver does that, or a
+// snapshot supplies it when resuming.
+#pragma once
+
+#include "sable/scenario/config.hpp"
+#include "sable/world/world.hpp"
+
+namespace sable {
+
+// Everything but the grains. Used on its own when resuming: grains come from the snapshot.
+template <int D>
+void build_model(const ScenarioConfig& cfg, World<D>& world);
+
+// Generate and add the grains of every [[grains]] block.
+template <int D>
+void build_grains(const ScenarioConfig& cfg, World<D>& world);
+
+// The automatic time step: dt_safety times the Rayleigh time of the smallest grain (Hertz), or
+// times sqrt(m/kn) of the lightest grain (linear law). Explained in docs/contact-laws.md.
+template <int D>
+double automatic_time_step(const ScenarioConfig& cfg, const World<D>& world);
+
+// Indices of the walls a stage's `wall_velocity` key names (a box name means all its planes).
+template <int D>
+std::vector<std::size_t> walls_named(const World<D>& world, const std::string& key);
+
+}  // namespace sable

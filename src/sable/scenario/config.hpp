@@ -1,0 +1,155 @@
+// The scenario as data: what a TOML file says, validated, before any grain exists.
+//
+// The parser (parse.cpp) fills these plain structs and rejects bad input with the file, line,
+// column and what was expected. build.hpp turns a ScenarioConfig into a World<D>. Vectors are
+// 3-arrays whatever the dimension: a 2D scenario gives 2 components and the parser pads z = 0.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sable/core/material.hpp"
+
+namespace sable {
+
+using Vec3a = std::array<double, 3>;
+
+// Where a value came from, for messages raised after parsing ("pour.toml:12:3: ...").
+struct SourceLoc {
+  std::string file;
+  int line = 0;
+  int column = 0;
+  std::string str() const {
+    return line > 0 ? file + ":" + std::to_string(line) + ":" + std::to_string(column) : file;
+  }
+};
+
+struct SimulationConfig {
+  int dimension = 3;
+  std::string solver = "dem";  // "dem" now; "cd" with the contact-dynamics issue
+  std::uint64_t seed = 0;
+  std::optional<double> dt;  // fixed time step (s); absent = automatic
+  double dt_safety = 0.2;    // automatic dt = dt_safety * critical time (see docs)
+  Vec3a gravity{0.0, 0.0, 0.0};
+  double thickness = 1.0;         // 2D only: out-of-plane depth (m) for masses
+  std::optional<double> skin;     // neighbour-list skin (m); absent = 0.5 * min radius... see build
+  double overlap_warning = 0.05;  // warn when an overlap exceeds this fraction of the radius
+  double max_speed = 1.0e3;       // m/s; a faster grain is a runaway and stops the run
+};
+
+struct DomainConfig {
+  Vec3a lo{0, 0, 0};
+  Vec3a hi{0, 0, 0};
+  SourceLoc loc;
+};
+
+struct MaterialConfig {
+  Material material;
+  SourceLoc loc;
+};
+
+struct PairOverrideConfig {
+  std::string a, b;
+  std::optional<double> friction;
+  std::optional<double> restitution;
+  SourceLoc loc;
+};
+
+struct ContactConfig {
+  std::string normal = "hertz";        // registry name: "hertz" | "linear"
+  std::string tangential = "history";  // registry name: "history" | "none"
+  bool attractive_damping = false;     // allow the damped normal force to pull (LIGGGHTS does)
+  double kn = 0.0;                     // linear law normal stiffness (N/m)
+  double kt = 0.0;                     // linear law tangential stiffness (N/m)
+  SourceLoc loc;
+};
+
+struct RadiusConfig {
+  enum class Kind { kMono, kUniform, kList } kind = Kind::kMono;
+  double value = 0.0;          // mono radius, or the mean of the uniform distribution
+  double spread = 0.0;         // uniform: relative half-width (0.1 = +-10 %)
+  std::vector<double> values;  // list: radii drawn in turn (cycled)
+};
+
+struct RegionConfig {
+  enum class Kind { kBox, kCylinder } kind = Kind::kBox;
+  Vec3a lo{0, 0, 0}, hi{0, 0, 0};  // box
+  Vec3a center{0, 0, 0};           // cylinder: axis along z through center (x, y)
+  double radius = 0.0;
+  double zlo = 0.0, zhi = 0.0;
+};
+
+struct GrainsConfig {
+  std::string generator = "lattice";  // "lattice" | "random" | "list" | "file"
+  std::string material;
+  RadiusConfig radius;
+  RegionConfig region;
+  std::size_t count = 0;
+  std::optional<double> spacing;      // lattice spacing; default 2 * max radius
+  double jitter = 0.0;                // lattice: uniform +-jitter on every coordinate (m)
+  std::string jitter_rng = "sable";   // "sable" | "numpy-pcg64" (bit-compatible with numpy)
+  std::optional<std::uint64_t> seed;  // default: simulation seed
+  std::vector<Vec3a> positions;       // generator = "list"
+  std::string file;                   // generator = "file": LAMMPS/LIGGGHTS data file
+  Vec3a velocity{0, 0, 0};
+  bool fixed = false;
+  std::size_t max_attempts = 1000;  // random insertion: tries per grain
+  SourceLoc loc;
+};
+
+struct WallConfig {
+  std::string name;
+  std::string type = "plane";  // "plane" | "box" | "cylinder"
+  std::string material;
+  Vec3a point{0, 0, 0}, normal{0, 0, 0};  // plane
+  Vec3a lo{0, 0, 0}, hi{0, 0, 0};         // box: expands to planes NAME.xlo, NAME.xhi, ...
+  Vec3a center{0, 0, 0};                  // cylinder (inside), axis along z
+  double radius = 0.0;
+  Vec3a velocity{0, 0, 0};
+  SourceLoc loc;
+};
+
+struct StageConfig {
+  std::string name;
+  std::optional<std::uint64_t> steps;          // run exactly this many steps
+  std::optional<double> kinetic_energy_below;  // or run until KE < bound (J) ...
+  std::uint64_t max_steps = 0;                 // ... but at most this many steps (required then)
+  std::uint64_t check_interval = 100;          // steps between kinetic-energy checks
+  std::map<std::string, Vec3a> wall_velocity;  // set at stage start: wall name -> velocity
+  SourceLoc loc;
+};
+
+struct OutputConfig {
+  std::string dir = "out";
+  std::uint64_t vtk_interval = 0;       // steps between VTK frames; 0 = at the end of stages only
+  std::uint64_t csv_interval = 1000;    // steps between CSV rows
+  std::uint64_t snapshot_interval = 0;  // steps between snapshots; 0 = at the end of stages only
+  std::uint64_t log_interval = 1000;    // steps between log lines (non-terminal)
+  bool vtk_contacts = true;
+  bool vtk_walls = true;
+};
+
+struct ScenarioConfig {
+  std::string path;  // file the scenario came from (for messages)
+  std::string text;  // its full text, stored in snapshots
+  SimulationConfig sim;
+  DomainConfig domain;
+  std::vector<MaterialConfig> materials;
+  std::vector<PairOverrideConfig> overrides;
+  ContactConfig contact;
+  std::vector<GrainsConfig> grains;
+  std::vector<WallConfig> walls;
+  std::vector<StageConfig> stages;
+  OutputConfig output;
+};
+
+// Parse and validate. Throws InputError naming file:line:column, the key and what was expected.
+ScenarioConfig parse_scenario(const std::string& text, const std::string& path);
+ScenarioConfig load_scenario(const std::string& path);
+
+}  // namespace sable

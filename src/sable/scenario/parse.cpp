@@ -1,0 +1,574 @@
+// The scenario parser: TOML text -> validated ScenarioConfig (schema in docs and config.hpp).
+//
+// Each table is read by one function that first rejects unknown keys, then reads every key
+// with its type and range checked. Cross references (material names, wall names) are checked
+// once the tables they point to have been read, so [simulation] comes first (the dimension
+// sets the length of every vector), then materials, then what refers to them.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <utility>
+
+#include "sable/core/error.hpp"
+#include "sable/scenario/config.hpp"
+#include "sable/scenario/toml_reader.hpp"
+
+namespace sable {
+
+namespace {
+
+using detail::kNonNegative;
+using detail::kPositive;
+using detail::Range;
+using detail::Table;
+
+constexpr Range kPoisson{0.0, 0.5, false, true};
+constexpr Range kRestitution{0.0, 1.0, true, false};
+constexpr Range kUnitOpenHi{0.0, 1.0, false, true};
+
+std::string in_quotes(const std::string& s) {
+  return "\"" + s + "\"";
+}
+
+// --- [simulation], [domain] -----------------------------------------------------------------
+
+SimulationConfig parse_simulation(const Table& root) {
+  SimulationConfig sim;
+  const auto t = root.table("simulation");
+  if (!t) return sim;
+  t->check_keys({"dimension", "solver", "seed", "dt", "dt_safety", "gravity", "thickness", "skin",
+                 "overlap_warning", "max_speed"});
+  if (const toml::node* dim = t->find("dimension")) {
+    const auto* value = dim->as_integer();
+    if (value == nullptr || (value->get() != 2 && value->get() != 3)) {
+      t->fail("dimension", "2 or 3");
+    }
+    sim.dimension = static_cast<int>(value->get());
+  }
+  sim.solver = t->choice("solver", {"dem", "cd"}, "dem");
+  if (sim.solver == "cd") {
+    t->fail("solver", "\"dem\" (the contact-dynamics solver \"cd\" is not available yet)");
+  }
+  sim.seed = t->unsigned_or("seed", sim.seed);
+  sim.dt = t->number("dt", kPositive);
+  sim.dt_safety = t->number_or("dt_safety", Range{0.0, 1.0, true, false}, sim.dt_safety);
+  sim.gravity = t->vector("gravity", sim.dimension).value_or(sim.gravity);
+  if (sim.dimension == 3) t->reject("thickness", "in 3D: thickness applies to 2D only");
+  sim.thickness = t->number_or("thickness", kPositive, sim.thickness);
+  sim.skin = t->number("skin", kNonNegative);
+  sim.overlap_warning = t->number_or("overlap_warning", kPositive, sim.overlap_warning);
+  sim.max_speed = t->number_or("max_speed", kPositive, sim.max_speed);
+  return sim;
+}
+
+DomainConfig parse_domain(const Table& root, int dim) {
+  const auto t = root.table("domain");
+  if (!t) root.fail_missing("domain", "a [domain] table with lo and hi");
+  t->check_keys({"lo", "hi"});
+  DomainConfig d;
+  d.lo = t->required_vector("lo", dim);
+  d.hi = t->required_vector("hi", dim);
+  detail::check_ordered(*t, "lo", "hi", d.lo, d.hi, dim);
+  d.loc = t->loc();
+  return d;
+}
+
+// --- [[material]], [[material_pair]], [contact] -----------------------------------------------
+
+MaterialConfig parse_material(const Table& t) {
+  t.check_keys({"name", "density", "young", "poisson", "restitution", "friction",
+                "rolling_friction", "rigid"});
+  MaterialConfig mc;
+  Material& m = mc.material;
+  m.name = t.required_string("name");
+  m.rigid = t.boolean_or("rigid", false);
+  if (m.rigid) {
+    m.density = t.number_or("density", kPositive, 0.0);
+    m.young = t.number_or("young", kPositive, 0.0);
+    m.poisson = t.number_or("poisson", kPoisson, 0.0);
+  } else {
+    m.density = t.required_number("density", kPositive);
+    m.young = t.required_number("young", kPositive);
+    m.poisson = t.required_number("poisson", kPoisson);
+  }
+  m.restitution = t.number_or("restitution", kRestitution, 1.0);
+  m.friction = t.number_or("friction", kNonNegative, 0.0);
+  m.rolling_friction = t.number_or("rolling_friction", kNonNegative, 0.0);
+  mc.loc = t.loc();
+  return mc;
+}
+
+std::vector<MaterialConfig> parse_materials(const Table& root) {
+  std::vector<MaterialConfig> out;
+  for (const Table& t : root.table_array("material")) {
+    MaterialConfig mc = parse_material(t);
+    for (const MaterialConfig& prev : out) {
+      if (prev.material.name == mc.material.name) {
+        t.fail("name", "a unique name (material " + in_quotes(mc.material.name) +
+                           " is already defined at " + prev.loc.str() + ")");
+      }
+    }
+    out.push_back(std::move(mc));
+  }
+  if (out.empty()) root.fail_missing("material", "at least one [[material]] table");
+  return out;
+}
+
+// Error unless `name` (read from node) names one of `materials`.
+void check_material_name(const toml::node& node, const std::string& key, const std::string& file,
+                         const std::string& name, const std::vector<MaterialConfig>& materials) {
+  std::vector<std::string> known;
+  for (const MaterialConfig& m : materials) {
+    if (m.material.name == name) return;
+    known.push_back(in_quotes(m.material.name));
+  }
+  detail::fail_value(node, key, file,
+                     "the name of a [[material]] (known: " + detail::join(known) + ")");
+}
+
+std::string material_ref(const Table& t, const std::vector<MaterialConfig>& materials) {
+  const std::string name = t.required_string("material");
+  check_material_name(*t.find("material"), t.key_path("material"), t.file(), name, materials);
+  return name;
+}
+
+PairOverrideConfig parse_pair(const Table& t, const std::vector<MaterialConfig>& materials) {
+  t.check_keys({"materials", "friction", "restitution"});
+  const toml::array* names = t.array("materials");
+  if (names == nullptr) t.fail_missing("materials", "an array of 2 material names");
+  if (names->size() != 2 || !names->is_homogeneous(toml::node_type::string)) {
+    t.fail("materials", "an array of 2 material names");
+  }
+  PairOverrideConfig p;
+  for (std::size_t i = 0; i < 2; ++i) {
+    const std::string key = t.key_path("materials") + "[" + std::to_string(i) + "]";
+    const std::string name = detail::to_string(*names->get(i), key, t.file());
+    check_material_name(*names->get(i), key, t.file(), name, materials);
+    (i == 0 ? p.a : p.b) = name;
+  }
+  p.friction = t.number("friction", kNonNegative);
+  p.restitution = t.number("restitution", kRestitution);
+  p.loc = t.loc();
+  return p;
+}
+
+std::vector<PairOverrideConfig> parse_pairs(const Table& root,
+                                            const std::vector<MaterialConfig>& materials) {
+  std::vector<PairOverrideConfig> out;
+  for (const Table& t : root.table_array("material_pair")) {
+    PairOverrideConfig p = parse_pair(t, materials);
+    for (const PairOverrideConfig& q : out) {
+      if ((q.a == p.a && q.b == p.b) || (q.a == p.b && q.b == p.a)) {
+        t.fail("materials", "a pair not given before (also at " + q.loc.str() + ")");
+      }
+    }
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+ContactConfig parse_contact(const Table& root) {
+  ContactConfig c;
+  const auto t = root.table("contact");
+  if (!t) return c;
+  t->check_keys({"normal", "tangential", "attractive_damping", "kn", "kt"});
+  c.normal = t->choice("normal", {"hertz", "linear"}, c.normal);
+  c.tangential = t->choice("tangential", {"history", "none"}, c.tangential);
+  c.attractive_damping = t->boolean_or("attractive_damping", c.attractive_damping);
+  c.loc = t->loc();
+  if (c.normal != "linear") {
+    const std::string why = "to normal = " + in_quotes(c.normal) + " (only to normal = \"linear\")";
+    t->reject("kn", why);
+    t->reject("kt", why);
+    return c;
+  }
+  c.kn = t->required_number("kn", kPositive);
+  if (c.tangential == "none") {
+    c.kt = t->number_or("kt", kPositive, 0.0);
+  } else {
+    c.kt = t->required_number("kt", kPositive);
+  }
+  return c;
+}
+
+// --- [[grains]] --------------------------------------------------------------------------------
+
+RadiusConfig parse_radius_table(const Table& r) {
+  RadiusConfig rc;
+  const std::string dist = r.choice("distribution", {"mono", "uniform", "list"}, "");
+  if (dist.empty()) r.fail_missing("distribution", "\"mono\", \"uniform\" or \"list\"");
+  if (dist == "mono") {
+    r.check_keys({"distribution", "value"});
+    rc.value = r.required_number("value", kPositive);
+  } else if (dist == "uniform") {
+    r.check_keys({"distribution", "mean", "spread"});
+    rc.kind = RadiusConfig::Kind::kUniform;
+    rc.value = r.required_number("mean", kPositive);
+    rc.spread = r.number_or("spread", kUnitOpenHi, 0.0);
+  } else {
+    r.check_keys({"distribution", "values"});
+    rc.kind = RadiusConfig::Kind::kList;
+    const toml::array* values = r.array("values");
+    if (values == nullptr) r.fail_missing("values", "an array of radii");
+    if (values->empty()) r.fail("values", "a non-empty array of radii");
+    for (std::size_t i = 0; i < values->size(); ++i) {
+      const std::string key = r.key_path("values") + "[" + std::to_string(i) + "]";
+      rc.values.push_back(detail::to_number(*values->get(i), key, r.file(), kPositive));
+    }
+  }
+  return rc;
+}
+
+// radius = number | [numbers] | { distribution = ... }
+RadiusConfig parse_radius(const Table& g) {
+  const toml::node* node = g.find("radius");
+  const std::string key = g.key_path("radius");
+  RadiusConfig rc;
+  if (node->is_number()) {
+    rc.value = detail::to_number(*node, key, g.file(), kPositive);
+  } else if (const auto* arr = node->as_array(); arr != nullptr && !arr->empty()) {
+    rc.kind = RadiusConfig::Kind::kList;
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+      const std::string ikey = key + "[" + std::to_string(i) + "]";
+      rc.values.push_back(detail::to_number(*arr->get(i), ikey, g.file(), kPositive));
+    }
+  } else if (node->is_table()) {
+    rc = parse_radius_table(*g.table("radius"));
+  } else {
+    detail::fail_type(*node, key, g.file(),
+                      "a number, an array of numbers or a table with a distribution");
+  }
+  return rc;
+}
+
+RegionConfig parse_region(const Table& g, int dim) {
+  const auto t = g.table("region");
+  if (!t) g.fail_missing("region", "a table { box = {...} } or { cylinder = {...} }");
+  t->check_keys({"box", "cylinder"});
+  if (t->has("box") == t->has("cylinder")) {
+    g.fail("region", "exactly one of box = {...} or cylinder = {...}");
+  }
+  RegionConfig r;
+  if (const auto box = t->table("box")) {
+    box->check_keys({"lo", "hi"});
+    r.lo = box->required_vector("lo", dim);
+    r.hi = box->required_vector("hi", dim);
+    detail::check_ordered(*box, "lo", "hi", r.lo, r.hi, dim);
+    return r;
+  }
+  const auto cyl = t->table("cylinder");
+  if (dim != 3) t->fail("cylinder", "a box region (a cylinder region needs dimension = 3)");
+  cyl->check_keys({"center", "radius", "zlo", "zhi"});
+  r.kind = RegionConfig::Kind::kCylinder;
+  r.center = cyl->required_vector("center", 2);
+  r.radius = cyl->required_number("radius", kPositive);
+  r.zlo = cyl->required_number("zlo", detail::kAnyNumber);
+  r.zhi = cyl->required_number("zhi", detail::kAnyNumber);
+  if (!(r.zhi > r.zlo)) cyl->fail("zhi", "a number > zlo = " + detail::format_number(r.zlo));
+  return r;
+}
+
+// Keys that only some generators use; any other generator rejects them.
+void reject_foreign_grain_keys(const Table& g, const std::string& gen) {
+  struct Use {
+    std::string_view key;
+    std::vector<std::string> generators;
+  };
+  static const std::vector<Use> kUses = {{"radius", {"lattice", "random", "list"}},
+                                         {"region", {"lattice", "random"}},
+                                         {"count", {"lattice", "random"}},
+                                         {"seed", {"lattice", "random"}},
+                                         {"spacing", {"lattice"}},
+                                         {"jitter", {"lattice"}},
+                                         {"jitter_rng", {"lattice"}},
+                                         {"max_attempts", {"random"}},
+                                         {"positions", {"list"}},
+                                         {"file", {"file"}}};
+  for (const Use& u : kUses) {
+    bool used = false;
+    for (const auto& name : u.generators) used = used || name == gen;
+    if (!used) {
+      g.reject(u.key, "to generator = " + in_quotes(gen) + " (only to " +
+                          detail::join(u.generators) + ")");
+    }
+  }
+}
+
+void parse_positions(const Table& g, GrainsConfig& gc, int dim) {
+  const toml::array* pos = g.array("positions");
+  if (pos == nullptr) g.fail_missing("positions", "an array of positions");
+  if (pos->empty()) g.fail("positions", "a non-empty array of positions");
+  for (std::size_t i = 0; i < pos->size(); ++i) {
+    const std::string key = g.key_path("positions") + "[" + std::to_string(i) + "]";
+    gc.positions.push_back(detail::to_vector(*pos->get(i), key, g.file(), dim));
+  }
+  const auto& radii = gc.radius.values;
+  if (g.find("radius")->is_array() && radii.size() != gc.positions.size()) {
+    g.fail("radius", "one number or an array of " + std::to_string(gc.positions.size()) +
+                         " radii (one per position)");
+  }
+}
+
+void parse_data_file(const Table& g, GrainsConfig& gc) {
+  namespace fs = std::filesystem;
+  const std::string name = g.required_string("file");
+  fs::path p(name);
+  if (p.is_relative()) p = fs::path(g.file()).parent_path() / p;
+  gc.file = p.lexically_normal().string();
+  std::error_code ec;
+  if (!fs::is_regular_file(p, ec)) {
+    g.fail("file", "an existing data file (nothing readable at " + in_quotes(gc.file) + ")");
+  }
+}
+
+void parse_generator_keys(const Table& g, GrainsConfig& gc, int dim) {
+  if (gc.generator == "lattice" || gc.generator == "random") {
+    gc.region = parse_region(g, dim);
+    if (!g.has("count")) g.fail_missing("count", "an integer >= 1");
+    gc.count = static_cast<std::size_t>(*g.unsigned_int("count", 1));
+    gc.seed = g.unsigned_int("seed");
+  }
+  if (gc.generator == "lattice") {
+    gc.spacing = g.number("spacing", kPositive);
+    gc.jitter = g.number_or("jitter", kNonNegative, gc.jitter);
+    gc.jitter_rng = g.choice("jitter_rng", {"sable", "numpy-pcg64"}, gc.jitter_rng);
+  } else if (gc.generator == "random") {
+    gc.max_attempts = static_cast<std::size_t>(g.unsigned_or("max_attempts", gc.max_attempts, 1));
+  } else if (gc.generator == "list") {
+    parse_positions(g, gc, dim);
+  } else {
+    parse_data_file(g, gc);
+  }
+}
+
+GrainsConfig parse_grains_entry(const Table& g, const ScenarioConfig& cfg) {
+  g.check_keys({"generator", "material", "radius", "region", "count", "spacing", "jitter",
+                "jitter_rng", "seed", "positions", "file", "velocity", "fixed", "max_attempts"});
+  const int dim = cfg.sim.dimension;
+  GrainsConfig gc;
+  gc.generator = g.choice("generator", {"lattice", "random", "list", "file"}, "");
+  if (gc.generator.empty()) {
+    g.fail_missing("generator", "\"lattice\", \"random\", \"list\" or \"file\"");
+  }
+  reject_foreign_grain_keys(g, gc.generator);
+  gc.material = material_ref(g, cfg.materials);
+  for (const MaterialConfig& m : cfg.materials) {
+    if (m.material.name == gc.material && !(m.material.density > 0.0)) {
+      g.fail("material", "a material with a density (rigid " + in_quotes(gc.material) +
+                             " has none; grains need a mass)");
+    }
+  }
+  // A data file carries its own radii (reject_foreign_grain_keys refused a radius with it).
+  if (gc.generator != "file") {
+    if (!g.has("radius")) g.fail_missing("radius", "a number or a table with a distribution");
+    gc.radius = parse_radius(g);
+  }
+  parse_generator_keys(g, gc, dim);
+  gc.velocity = g.vector("velocity", dim).value_or(gc.velocity);
+  gc.fixed = g.boolean_or("fixed", gc.fixed);
+  gc.loc = g.loc();
+  return gc;
+}
+
+// --- [[wall]] ----------------------------------------------------------------------------------
+
+// The plane names a box wall expands to: NAME.xlo, NAME.xhi, ... (no z planes in 2D).
+std::vector<std::string> box_planes(const std::string& name, int dim) {
+  std::vector<std::string> out;
+  for (const char* axis : {"x", "y", "z"}) {
+    if (static_cast<int>(out.size()) == 2 * dim) break;
+    out.push_back(name + "." + axis + "lo");
+    out.push_back(name + "." + axis + "hi");
+  }
+  return out;
+}
+
+void parse_wall_geometry(const Table& t, WallConfig& w, int dim) {
+  if (w.type == "plane") {
+    w.point = t.required_vector("point", dim);
+    w.normal = t.required_vector("normal", dim);
+    const double len = std::sqrt(w.normal[0] * w.normal[0] + w.normal[1] * w.normal[1] +
+                                 w.normal[2] * w.normal[2]);
+    if (!(len > 0.0)) t.fail("normal", "a non-zero vector");
+    for (double& c : w.normal) c /= len;
+  } else if (w.type == "box") {
+    w.lo = t.required_vector("lo", dim);
+    w.hi = t.required_vector("hi", dim);
+    detail::check_ordered(t, "lo", "hi", w.lo, w.hi, dim);
+  } else {
+    if (dim != 3) t.fail("type", "\"plane\" or \"box\" (a cylinder wall needs dimension = 3)");
+    w.center = t.required_vector("center", 2);
+    w.radius = t.required_number("radius", kPositive);
+  }
+}
+
+WallConfig parse_wall(const Table& t, const ScenarioConfig& cfg) {
+  t.check_keys(
+      {"name", "type", "material", "velocity", "point", "normal", "lo", "hi", "center", "radius"});
+  WallConfig w;
+  w.name = t.required_string("name");
+  w.type = t.choice("type", {"plane", "box", "cylinder"}, w.type);
+  const std::string why = "to type = " + in_quotes(w.type);
+  for (const char* key : {"point", "normal"}) {
+    if (w.type != "plane") t.reject(key, why + " (only to \"plane\")");
+  }
+  for (const char* key : {"lo", "hi"}) {
+    if (w.type != "box") t.reject(key, why + " (only to \"box\")");
+  }
+  for (const char* key : {"center", "radius"}) {
+    if (w.type != "cylinder") t.reject(key, why + " (only to \"cylinder\")");
+  }
+  w.material = material_ref(t, cfg.materials);
+  parse_wall_geometry(t, w, cfg.sim.dimension);
+  w.velocity = t.vector("velocity", cfg.sim.dimension).value_or(w.velocity);
+  w.loc = t.loc();
+  return w;
+}
+
+// Walls, and every name a stage may use for them (wall names and box plane names).
+std::vector<WallConfig> parse_walls(const Table& root, const ScenarioConfig& cfg,
+                                    std::vector<std::string>& names) {
+  std::vector<WallConfig> out;
+  for (const Table& t : root.table_array("wall")) {
+    WallConfig w = parse_wall(t, cfg);
+    std::vector<std::string> added{w.name};
+    if (w.type == "box") {
+      for (auto& plane : box_planes(w.name, cfg.sim.dimension)) added.push_back(plane);
+    }
+    for (const std::string& n : added) {
+      for (const std::string& prev : names) {
+        if (prev == n) t.fail("name", "a unique wall name (" + in_quotes(n) + " is already used)");
+      }
+    }
+    names.insert(names.end(), added.begin(), added.end());
+    out.push_back(std::move(w));
+  }
+  return out;
+}
+
+// --- [[stage]] ---------------------------------------------------------------------------------
+
+// wall_velocity = { floor = [...], "box.zhi" = [...] }; an unquoted box.zhi arrives as a
+// nested table { box = { zhi = [...] } } and is accepted the same way.
+void parse_wall_velocity(const Table& s, StageConfig& st, const std::vector<std::string>& names,
+                         int dim) {
+  const auto t = s.table("wall_velocity");
+  if (!t) return;
+  const std::string expected = names.empty()
+                                   ? std::string("a wall name (there are no [[wall]] tables)")
+                                   : "a wall name (known: " + detail::join(names) + ")";
+  for (auto&& [k, v] : t->raw()) {
+    const std::string name(k.str());
+    const std::string key = t->key_path(name);
+    if (v.is_table() && detail::contains(names, name + ".xlo")) {
+      const Table sub(*v.as_table(), key, s.file());
+      for (auto&& [pk, pv] : sub.raw()) {
+        const std::string plane = name + "." + std::string(pk.str());
+        if (!detail::contains(names, plane)) {
+          detail::fail_at(pk.source(), s.file(),
+                          "unknown wall " + sub.key_path(pk.str()) + ": expected " + expected);
+        }
+        st.wall_velocity[plane] = detail::to_vector(pv, sub.key_path(pk.str()), s.file(), dim);
+      }
+      continue;
+    }
+    if (!detail::contains(names, name)) {
+      detail::fail_at(k.source(), s.file(), "unknown wall " + key + ": expected " + expected);
+    }
+    st.wall_velocity[name] = detail::to_vector(v, key, s.file(), dim);
+  }
+}
+
+StageConfig parse_stage(const Table& s, std::size_t index, const std::vector<std::string>& names,
+                        int dim) {
+  s.check_keys(
+      {"name", "steps", "kinetic_energy_below", "max_steps", "check_interval", "wall_velocity"});
+  StageConfig st;
+  st.name = s.string("name").value_or("stage" + std::to_string(index));
+  if (st.name.empty()) s.fail("name", "a non-empty string");
+  const std::string one_of = "exactly one of steps or kinetic_energy_below";
+  if (s.has("steps") && s.has("kinetic_energy_below")) {
+    s.fail("kinetic_energy_below", one_of + ", found both");
+  }
+  if (!s.has("steps") && !s.has("kinetic_energy_below")) {
+    detail::fail_at(s.raw().source(), s.file(),
+                    s.name() + ": expected " + one_of + ", found neither");
+  }
+  st.steps = s.unsigned_int("steps");
+  st.kinetic_energy_below = s.number("kinetic_energy_below", kPositive);
+  if (st.kinetic_energy_below) {
+    if (!s.has("max_steps")) s.fail_missing("max_steps", "an integer >= 1");
+    st.max_steps = *s.unsigned_int("max_steps", 1);
+  } else {
+    s.reject("max_steps", "to a stage with steps (only with kinetic_energy_below)");
+  }
+  st.check_interval = s.unsigned_or("check_interval", st.check_interval, 1);
+  parse_wall_velocity(s, st, names, dim);
+  st.loc = s.loc();
+  return st;
+}
+
+// --- [output] ----------------------------------------------------------------------------------
+
+OutputConfig parse_output(const Table& root) {
+  OutputConfig o;
+  const auto t = root.table("output");
+  if (!t) return o;
+  t->check_keys({"dir", "vtk_interval", "csv_interval", "snapshot_interval", "log_interval",
+                 "vtk_contacts", "vtk_walls"});
+  o.dir = t->string("dir").value_or(o.dir);
+  if (o.dir.empty()) t->fail("dir", "a non-empty directory name");
+  o.vtk_interval = t->unsigned_or("vtk_interval", o.vtk_interval);
+  o.csv_interval = t->unsigned_or("csv_interval", o.csv_interval);
+  o.snapshot_interval = t->unsigned_or("snapshot_interval", o.snapshot_interval);
+  o.log_interval = t->unsigned_or("log_interval", o.log_interval);
+  o.vtk_contacts = t->boolean_or("vtk_contacts", o.vtk_contacts);
+  o.vtk_walls = t->boolean_or("vtk_walls", o.vtk_walls);
+  return o;
+}
+
+}  // namespace
+
+ScenarioConfig parse_scenario(const std::string& text, const std::string& path) {
+  const toml::table doc = detail::parse_document(text, path);
+  const Table root(doc, "", path);
+  root.check_keys({"simulation", "domain", "material", "material_pair", "contact", "grains", "wall",
+                   "stage", "output"});
+  ScenarioConfig cfg;
+  cfg.path = path;
+  cfg.text = text;
+  cfg.sim = parse_simulation(root);
+  cfg.domain = parse_domain(root, cfg.sim.dimension);
+  cfg.materials = parse_materials(root);
+  cfg.overrides = parse_pairs(root, cfg.materials);
+  cfg.contact = parse_contact(root);
+  for (const Table& g : root.table_array("grains"))
+    cfg.grains.push_back(parse_grains_entry(g, cfg));
+  std::vector<std::string> wall_names;
+  cfg.walls = parse_walls(root, cfg, wall_names);
+  const auto stages = root.table_array("stage");
+  if (stages.empty()) root.fail_missing("stage", "at least one [[stage]] table");
+  for (std::size_t i = 0; i < stages.size(); ++i) {
+    cfg.stages.push_back(parse_stage(stages[i], i, wall_names, cfg.sim.dimension));
+  }
+  cfg.output = parse_output(root);
+  return cfg;
+}
+
+ScenarioConfig load_scenario(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) {
+    throw InputError(path + ": cannot read scenario: no such file");
+  }
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw InputError(path + ": cannot read scenario: not a regular file");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot read scenario: the file cannot be opened");
+  std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (in.bad()) throw InputError(path + ": cannot read scenario: read failed");
+  return parse_scenario(text, path);
+}
+
+}  // namespace sable

@@ -1,0 +1,268 @@
+#include "sable/scenario/runner.hpp"
+
+#include <fmt/format.h>
+#include <omp.h>
+#include <unistd.h>
+#include <chrono>
+#include <filesystem>
+#include <memory>
+
+#include "sable/core/error.hpp"
+#include "sable/dem/dem_solver.hpp"
+#include "sable/io/csv.hpp"
+#include "sable/io/snapshot.hpp"
+#include "sable/io/vtk.hpp"
+#include "sable/scenario/build.hpp"
+#include "sable/scenario/progress.hpp"
+
+namespace sable {
+namespace {
+
+namespace fs = std::filesystem;
+
+template <int D>
+class Runner {
+ public:
+  Runner(const ScenarioConfig& cfg, const RunOptions& opt)
+      : cfg_(cfg),
+        opt_(opt),
+        out_(opt.out_dir.empty() ? cfg.output.dir : opt.out_dir),
+        progress_(*opt.log, opt.live_progress.value_or(isatty(STDERR_FILENO) == 1),
+                  cfg.output.log_interval),
+        solver_(world_) {}
+
+  RunResult run();
+
+ private:
+  void setup();
+  void open_outputs(bool resuming);
+  void start_stage();
+  bool stage_done();
+  void after_step();
+  void write_frame();
+  void write_snapshot(const std::string& file);
+  void write_csv_row();
+  ProgressSample sample() const;
+
+  const ScenarioConfig& cfg_;
+  RunOptions opt_;
+  fs::path out_;
+  World<D> world_;
+  ProgressReporter progress_;
+  DemSolver<D> solver_;
+  RunPosition pos_;
+  std::optional<CsvLog> csv_;
+  std::optional<PvdSeries> grains_pvd_, contacts_pvd_, walls_pvd_;
+  bool warned_overlap_ = false;
+};
+
+template <int D>
+void Runner<D>::setup() {
+  build_model(cfg_, world_);
+  if (opt_.resume.empty()) {
+    build_grains(cfg_, world_);
+    solver_.initialize();
+  } else {
+    std::string text;
+    pos_ = load_snapshot(opt_.resume, world_, &text);
+    if (pos_.stage >= cfg_.stages.size())
+      throw InputError(fmt::format("{}: snapshot is at stage {} but {} has only {} stages",
+                                   opt_.resume, pos_.stage + 1, cfg_.path, cfg_.stages.size()));
+    if (text != cfg_.text)
+      progress_.message(
+          fmt::format("warning: {} was written by a different scenario text than "
+                      "{}; resuming with the new stages and outputs",
+                      opt_.resume, cfg_.path));
+  }
+  if (opt_.write_outputs) open_outputs(!opt_.resume.empty());
+}
+
+template <int D>
+void Runner<D>::open_outputs(bool resuming) {
+  fs::create_directories(out_ / "vtk");
+  fs::create_directories(out_ / "snapshots");
+  std::vector<std::string> cols{"step",
+                                "time_s",
+                                "kinetic_energy_J",
+                                "touching_contacts",
+                                "coordination",
+                                "max_overlap_over_radius"};
+  for (const auto& wall : world_.walls)
+    for (const char* ax : {"x", "y", "z"}) {
+      if (D == 2 && ax[0] == 'z') continue;
+      cols.push_back(fmt::format("wall_{}_f{}_N", wall.name, ax));
+    }
+  csv_.emplace((out_ / "series.csv").string(), cols,
+               resuming ? std::optional<std::uint64_t>(world_.step) : std::nullopt);
+  grains_pvd_.emplace((out_ / "grains.pvd").string());
+  contacts_pvd_.emplace((out_ / "contacts.pvd").string());
+  walls_pvd_.emplace((out_ / "walls.pvd").string());
+  if (!resuming) {
+    write_frame();
+    write_csv_row();
+  }
+}
+
+template <int D>
+ProgressSample Runner<D>::sample() const {
+  const StageConfig& st = cfg_.stages[pos_.stage];
+  ProgressSample s;
+  s.stage = st.name.empty() ? fmt::format("stage {}", pos_.stage + 1) : st.name;
+  s.step = world_.step;
+  s.stage_step = pos_.stage_step;
+  s.stage_total = st.steps ? *st.steps : st.max_steps;
+  s.time = world_.time;
+  s.kinetic_energy = kinetic_energy(world_);
+  s.contacts = solver_.diagnostics().touching;
+  s.grains = world_.particles.size();
+  return s;
+}
+
+template <int D>
+void Runner<D>::start_stage() {
+  const StageConfig& st = cfg_.stages[pos_.stage];
+  for (const auto& [name, vel] : st.wall_velocity)
+    for (std::size_t k : walls_named(world_, name))
+      world_.walls[k].velocity = Space<D>::from_array(vel);
+  progress_.message(fmt::format("stage {} '{}' begins at step {} (t = {:.6g} s, dt = {:.4g} s)",
+                                pos_.stage + 1, st.name, world_.step, world_.time, world_.dt));
+}
+
+template <int D>
+bool Runner<D>::stage_done() {
+  const StageConfig& st = cfg_.stages[pos_.stage];
+  if (st.steps) return pos_.stage_step >= *st.steps;
+  // Never at the stage's first step: grains placed at rest would end a settling stage at once.
+  if (pos_.stage_step > 0 && pos_.stage_step % st.check_interval == 0 &&
+      kinetic_energy(world_) < *st.kinetic_energy_below)
+    return true;
+  if (pos_.stage_step >= st.max_steps) {
+    progress_.message(fmt::format(
+        "warning: stage '{}' reached max_steps = {} with kinetic energy {:.4g} J, still above "
+        "kinetic_energy_below = {:.4g} J",
+        st.name, st.max_steps, kinetic_energy(world_), *st.kinetic_energy_below));
+    return true;
+  }
+  return false;
+}
+
+template <int D>
+void Runner<D>::after_step() {
+  const auto step = world_.step;
+  const auto& o = cfg_.output;
+  const auto& diag = solver_.diagnostics();
+  if (!warned_overlap_ && diag.max_overlap_ratio > world_.overlap_warning) {
+    warned_overlap_ = true;
+    progress_.message(fmt::format(
+        "warning: step {}: an overlap reached {:.3g} of the grain radius (overlap_warning = "
+        "{:.3g}); the grains may be too soft or the time step too large",
+        step, diag.max_overlap_ratio, world_.overlap_warning));
+  }
+  if (progress_.due(step)) progress_.report(sample());
+  if (!opt_.write_outputs) return;
+  if (o.csv_interval > 0 && step % o.csv_interval == 0) write_csv_row();
+  if (o.vtk_interval > 0 && step % o.vtk_interval == 0) write_frame();
+  if (o.snapshot_interval > 0 && step % o.snapshot_interval == 0)
+    write_snapshot(fmt::format("step_{:010d}.h5", step));
+}
+
+template <int D>
+void Runner<D>::write_frame() {
+  const std::string stem = fmt::format("{:010d}.vtp", world_.step);
+  write_grains_vtp(world_, (out_ / "vtk" / ("grains_" + stem)).string());
+  grains_pvd_->add(world_.time, "vtk/grains_" + stem);
+  if (cfg_.output.vtk_contacts) {
+    write_contacts_vtp(world_, (out_ / "vtk" / ("contacts_" + stem)).string());
+    contacts_pvd_->add(world_.time, "vtk/contacts_" + stem);
+  }
+  if (cfg_.output.vtk_walls && !world_.walls.empty()) {
+    write_walls_vtp(world_, (out_ / "vtk" / ("walls_" + stem)).string());
+    walls_pvd_->add(world_.time, "vtk/walls_" + stem);
+  }
+}
+
+template <int D>
+void Runner<D>::write_snapshot(const std::string& file) {
+  save_snapshot(world_, pos_, cfg_.text, (out_ / "snapshots" / file).string());
+}
+
+template <int D>
+void Runner<D>::write_csv_row() {
+  const auto& nl = world_.neighbors;
+  std::size_t pairs = 0, walls = 0;
+  for (const auto& f : nl.pairs.force) pairs += f.squaredNorm() > 0.0 ? 1 : 0;
+  for (const auto& f : nl.wall_pairs.force) walls += f.squaredNorm() > 0.0 ? 1 : 0;
+  const double n = static_cast<double>(std::max<std::size_t>(world_.particles.size(), 1));
+  std::vector<double> row{static_cast<double>(world_.step),
+                          world_.time,
+                          kinetic_energy(world_),
+                          static_cast<double>(pairs + walls),
+                          (2.0 * static_cast<double>(pairs) + static_cast<double>(walls)) / n,
+                          solver_.diagnostics().max_overlap_ratio};
+  for (const auto& wall : world_.walls)
+    for (int d = 0; d < D; ++d) row.push_back(wall.force[d]);
+  csv_->row(row);
+}
+
+template <int D>
+RunResult Runner<D>::run() {
+  const auto t0 = std::chrono::steady_clock::now();
+  setup();
+  try {
+    for (; pos_.stage < cfg_.stages.size(); ++pos_.stage, pos_.stage_step = 0) {
+      if (pos_.stage_step == 0) start_stage();
+      while (!stage_done()) {
+        solver_.step();
+        ++pos_.stage_step;
+        after_step();
+      }
+      progress_.report(sample());
+      progress_.finish_line();
+      if (opt_.write_outputs) {
+        write_frame();
+        write_snapshot(fmt::format("end_of_stage_{}.h5", pos_.stage + 1));
+      }
+    }
+  } catch (const SimulationError& e) {
+    progress_.finish_line();
+    if (opt_.write_outputs) {
+      const std::string file = fmt::format("crash_step_{:010d}.h5", world_.step);
+      write_snapshot(file);
+      throw SimulationError(
+          fmt::format("{}\nstate written to {}", e.what(), (out_ / "snapshots" / file).string()));
+    }
+    throw;
+  }
+  RunResult r;
+  r.steps = world_.step;
+  r.time = world_.time;
+  r.state_hash = state_hash(world_);
+  r.grains = world_.particles.size();
+  r.kinetic_energy = kinetic_energy(world_);
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+template <int D>
+std::string describe(const ScenarioConfig& cfg) {
+  World<D> w;
+  build_model(cfg, w);
+  build_grains(cfg, w);
+  return fmt::format("{}: {}D, {} grains, {} walls, {} materials, {} stages, dt = {:.4g} s{}",
+                     cfg.path, D, w.particles.size(), w.walls.size(), w.materials.size(),
+                     cfg.stages.size(), w.dt, cfg.sim.dt ? "" : " (automatic)");
+}
+
+}  // namespace
+
+RunResult run_scenario(const ScenarioConfig& cfg, const RunOptions& opt) {
+  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  if (cfg.sim.dimension == 2) return Runner<2>(cfg, opt).run();
+  return Runner<3>(cfg, opt).run();
+}
+
+std::string describe_scenario(const ScenarioConfig& cfg) {
+  return cfg.sim.dimension == 2 ? describe<2>(cfg) : describe<3>(cfg);
+}
+
+}  // namespace sable
