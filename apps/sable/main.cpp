@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <sys/resource.h>
 
 #include "sable/contact/contact_model.hpp"
 #include "sable/core/error.hpp"
@@ -17,10 +18,13 @@ namespace {
 int cmd_run(const std::string& file, const sable::RunOptions& opt) {
   const sable::ScenarioConfig cfg = sable::load_scenario(file);
   const sable::RunResult r = sable::run_scenario(cfg, opt);
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
   std::cerr << fmt::format(
       "done: {} grains, {} steps, t = {:.6g} s, kinetic energy {:.4g} J, {:.1f} s wall time, "
-      "state hash {:016x}\n",
-      r.grains, r.steps, r.time, r.kinetic_energy, r.wall_seconds, r.state_hash);
+      "peak memory {:.1f} MiB, state hash {:016x}\n",
+      r.grains, r.steps, r.time, r.kinetic_energy, r.wall_seconds,
+      static_cast<double>(usage.ru_maxrss) / 1024.0, r.state_hash);
   return 0;
 }
 

@@ -106,6 +106,18 @@ std::vector<std::string> read_text(const File& f, const std::string& what, hid_t
   return out;
 }
 
+// File access: closing the file closes everything still open in it; file locking is used
+// where the file system supports it and skipped (not an error) where it does not, as on
+// some cluster file systems.
+Id access_plist() {
+  Id fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);
+#if H5_VERSION_GE(1, 10, 7)
+  H5Pset_file_locking(fapl.get(), true, true);
+#endif
+  return fapl;
+}
+
 }  // namespace
 
 std::string error_detail() {
@@ -121,8 +133,7 @@ void File::fail(const std::string& what) const {
 
 File File::create(const std::string& path, const std::string& label) {
   silence_errors();
-  Id fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-  H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);
+  Id fapl = access_plist();
   Id f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose);
   if (!f.valid()) throw InputError(fmt::format("{}: cannot create: {}", label, error_detail()));
   return File(std::move(f), label);
@@ -138,8 +149,7 @@ File File::open(const std::string& path, const std::string& label, bool writable
   const htri_t is_h5 = H5Fis_hdf5(path.c_str());
   if (is_h5 == 0) throw InputError(label + ": not an HDF5 file (no HDF5 signature found)");
   if (is_h5 < 0) throw InputError(fmt::format("{}: cannot be read: {}", label, error_detail()));
-  Id fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-  H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);
+  Id fapl = access_plist();
   Id f(H5Fopen(path.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, fapl.get()), H5Fclose);
   if (!f.valid()) {
     throw InputError(fmt::format("{}: cannot open as HDF5 (damaged or truncated file?): {}", label,

@@ -43,6 +43,17 @@ class Runner {
   void write_snapshot(const std::string& file);
   void write_csv_row();
   ProgressSample sample() const;
+  // Wall clock and phase timers at the start of a stage, for its summary line.
+  struct StageClock {
+    StageClock(std::uint64_t s, const PhaseTimers& t) : step(s) {
+      for (int k = 0; k < static_cast<int>(Phase::kCount); ++k)
+        phase_seconds[k] = t.seconds(static_cast<Phase>(k));
+    }
+    std::uint64_t step;
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+    std::array<double, static_cast<int>(Phase::kCount)> phase_seconds{};
+  };
+  std::string stage_summary(const StageClock& c) const;
 
   const ScenarioConfig& cfg_;
   RunOptions opt_;
@@ -205,19 +216,43 @@ void Runner<D>::write_csv_row() {
 }
 
 template <int D>
+std::string Runner<D>::stage_summary(const StageClock& c) const {
+  const double secs =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - c.start).count();
+  const auto steps = world_.step - c.step;
+  const double grain_steps =
+      static_cast<double>(steps) * static_cast<double>(world_.particles.size());
+  std::string phases;
+  double total = 0.0;
+  for (int k = 0; k < static_cast<int>(Phase::kCount); ++k)
+    total += solver_.timers().seconds(static_cast<Phase>(k)) - c.phase_seconds[k];
+  for (int k = 0; k < static_cast<int>(Phase::kCount); ++k) {
+    const double t = solver_.timers().seconds(static_cast<Phase>(k)) - c.phase_seconds[k];
+    phases += fmt::format("{}{} {:.0f}%", k ? ", " : "", kPhaseNames[k],
+                          total > 0 ? 100.0 * t / total : 0.0);
+  }
+  return fmt::format(
+      "stage '{}' done: {} steps in {:.2f} s, {:.4g} grain-steps/s ({}); {} neighbour builds so "
+      "far",
+      cfg_.stages[pos_.stage].name, steps, secs, secs > 0 ? grain_steps / secs : 0.0, phases,
+      world_.neighbors.builds);
+}
+
+template <int D>
 RunResult Runner<D>::run() {
   const auto t0 = std::chrono::steady_clock::now();
   setup();
   try {
     for (; pos_.stage < cfg_.stages.size(); ++pos_.stage, pos_.stage_step = 0) {
       if (pos_.stage_step == 0) start_stage();
+      const StageClock clock(world_.step, solver_.timers());
       while (!stage_done()) {
         solver_.step();
         ++pos_.stage_step;
         after_step();
       }
       progress_.report(sample());
-      progress_.finish_line();
+      progress_.message(stage_summary(clock));
       if (opt_.write_outputs) {
         write_frame();
         write_snapshot(fmt::format("end_of_stage_{}.h5", pos_.stage + 1));
