@@ -1,0 +1,155 @@
+// Basic DEM behaviours the scenario features rely on: fixed grains, moving walls, the
+// cylinder wall, and the run guards (runaway grains, overlap warnings).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <sstream>
+
+#include "sable/core/error.hpp"
+#include "sable/dem/dem_solver.hpp"
+#include "sable/scenario/config.hpp"
+#include "sable/scenario/runner.hpp"
+
+namespace {
+
+sable::World<3> world_with_material(double e = 0.3, double mu = 0.5) {
+  sable::World<3> w;
+  w.materials.add({"g", 2500.0, 1e7, 0.3, e, mu});
+  w.materials.finalize();
+  w.neighbors.skin = 0.2e-3;
+  w.neighbors.domain_lo = Eigen::Vector3d(-0.01, -0.01, -0.01);
+  w.neighbors.domain_hi = Eigen::Vector3d(0.01, 0.01, 0.01);
+  w.dt = 1e-6;
+  return w;
+}
+
+// A grain resting on a fixed grain under gravity: the fixed grain never moves, and at rest the
+// contact carries exactly the weight m g (static balance; 1e-6 relative once damped out).
+TEST(DemBasics, GrainRestsOnFixedGrain) {
+  auto w = world_with_material();
+  const double r = 1e-3;
+  w.particles.add({0, 0, 0}, r, 2500.0, 0, 1.0, /*fixed=*/true);
+  w.particles.add({0, 0, 2 * r}, r, 2500.0, 0, 1.0);
+  w.gravity = {0, 0, -9.81};
+  sable::DemSolver<3> s(w);
+  s.initialize();
+  for (int k = 0; k < 200000; ++k) s.step();
+  EXPECT_EQ(w.particles.x[0], Eigen::Vector3d(0, 0, 0));
+  EXPECT_EQ(w.particles.v[0], Eigen::Vector3d(0, 0, 0));
+  ASSERT_EQ(w.neighbors.pairs.size(), 1u);
+  const double weight = w.particles.mass[1] * 9.81;
+  // pairs.force is the force on i = slot 0 (the fixed grain): -m g along z.
+  EXPECT_NEAR(w.neighbors.pairs.force[0].z(), -weight, 1e-6 * weight);
+  EXPECT_LT(w.particles.v[1].norm(), 1e-6);
+}
+
+// A floor rising at constant speed lifts a grain resting on it under gravity: after the
+// transient the grain travels with the floor (averaged over the second half, 1 % of the
+// speed covers the damped contact oscillation), and the floor carries the weight m g.
+TEST(DemBasics, MovingWallPushesGrain) {
+  auto w = world_with_material(0.2, 0.0);
+  const double r = 1e-3;
+  w.particles.add({0, 0, r}, r, 2500.0, 0, 1.0);
+  w.gravity = {0, 0, -9.81};
+  sable::Wall<3> floor;
+  floor.point = Eigen::Vector3d(0, 0, 0);
+  floor.normal = Eigen::Vector3d(0, 0, 1);
+  floor.velocity = Eigen::Vector3d(0, 0, 0.01);
+  w.walls.push_back(floor);
+  sable::DemSolver<3> s(w);
+  s.initialize();
+  double mean_v = 0.0;
+  const int n = 200000;
+  for (int k = 0; k < n; ++k) {
+    s.step();
+    if (k >= n / 2) mean_v += w.particles.v[0].z() / (n / 2);
+  }
+  EXPECT_NEAR(mean_v, 0.01, 1e-4);  // 1 % of the wall speed: transient residue
+  EXPECT_NEAR(w.walls[0].point.z(), 0.01 * n * w.dt, 1e-12);
+  const double weight = w.particles.mass[0] * 9.81;
+  EXPECT_NEAR(w.walls[0].force.z(), -weight, 1e-3 * weight);  // the grain's weight, at rest
+}
+
+// Inside a cylinder a grain thrown outwards comes back: the wall's normal points to the axis
+// and the grain never leaves the cylinder by more than a small overlap. Elastic and
+// frictionless, so its speed is conserved over the bounces (to the symplectic O(dt^2) error).
+TEST(DemBasics, CylinderWallContainsGrain) {
+  auto w = world_with_material(1.0, 0.0);
+  const double r = 1e-3, rc = 5e-3;
+  w.particles.add({0, 0, 0}, r, 2500.0, 0, 1.0);
+  w.particles.v[0] = Eigen::Vector3d(0.3, 0.2, 0.0);
+  sable::Wall<3> cyl;
+  cyl.kind = sable::WallKind::kCylinderInside;
+  cyl.point = Eigen::Vector3d(0, 0, 0);
+  cyl.radius = rc;
+  w.walls.push_back(cyl);
+  sable::DemSolver<3> s(w);
+  s.initialize();
+  double max_rho = 0.0;
+  for (int k = 0; k < 100000; ++k) {
+    s.step();
+    max_rho = std::max(max_rho, w.particles.x[0].head<2>().norm());
+  }
+  EXPECT_GT(max_rho, rc - r - 0.1 * r);  // it reached the wall
+  EXPECT_LT(max_rho, rc - r + 0.1 * r);  // and did not pass it
+  EXPECT_NEAR(w.particles.v[0].norm(), std::hypot(0.3, 0.2), 1e-3 * std::hypot(0.3, 0.2));
+  EXPECT_EQ(w.particles.x[0].z(), 0.0);  // the wall is vertical: no force along the axis
+}
+
+std::string runaway_scenario(const std::string& out, double dt, double z2 = 0.0035) {
+  std::ostringstream s;
+  s << "[simulation]\ndt = " << dt << "\ngravity = [0, 0, -9.81]\nmax_speed = 10.0\n"
+    << "overlap_warning = 0.01\n"
+    << "[domain]\nlo = [0, 0, 0]\nhi = [0.01, 0.01, 0.01]\n"
+    << "[[material]]\nname = \"g\"\ndensity = 2500.0\nyoung = 1e8\npoisson = 0.3\n"
+    << "[[grains]]\ngenerator = \"list\"\nmaterial = \"g\"\nradius = 1e-3\n"
+    << "positions = [[0.005, 0.005, 0.002], [0.005, 0.005, " << z2 << "]]\n"
+    << "[[wall]]\nname = \"floor\"\ntype = \"plane\"\nmaterial = \"g\"\npoint = [0, 0, 0]\n"
+    << "normal = [0, 0, 1]\n"
+    << "[[stage]]\nsteps = 200\n[output]\ndir = \"" << out << "\"\n";
+  return s.str();
+}
+
+// Grains inserted overlapping by 25 % with a time step far too large explode: the run stops
+// with a SimulationError naming the step and a grain, and writes a crash snapshot first.
+TEST(DemBasics, RunawayStopsWithSnapshot) {
+  const auto dir = std::filesystem::temp_directory_path() / "sable_runaway";
+  std::filesystem::remove_all(dir);
+  const auto cfg = sable::parse_scenario(runaway_scenario(dir.string(), 1e-4), "r.toml");
+  sable::RunOptions opt;
+  std::ostringstream log;
+  opt.log = &log;
+  opt.live_progress = false;
+  try {
+    sable::run_scenario(cfg, opt);
+    FAIL() << "expected the run to stop";
+  } catch (const sable::SimulationError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("grain id"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("crash_step_"), std::string::npos) << msg;
+  }
+  bool found = false;
+  for (const auto& f : std::filesystem::directory_iterator(dir / "snapshots"))
+    found |= f.path().filename().string().rfind("crash_step_", 0) == 0;
+  EXPECT_TRUE(found);
+  std::filesystem::remove_all(dir);
+}
+
+// A pair inserted with a 5 % overlap and a sensible dt separates without running away, but the
+// overlap exceeds overlap_warning = 1 %: the log says so, once.
+TEST(DemBasics, OverlapWarning) {
+  const auto cfg = sable::parse_scenario(runaway_scenario("unused", 1e-7, 0.00395), "r.toml");
+  sable::RunOptions opt;
+  std::ostringstream log;
+  opt.log = &log;
+  opt.live_progress = false;
+  opt.write_outputs = false;
+  sable::run_scenario(cfg, opt);
+  const std::string text = log.str();
+  const auto first = text.find("warning: step");
+  ASSERT_NE(first, std::string::npos) << text;
+  EXPECT_NE(text.find("overlap_warning = 0.01"), std::string::npos) << text;
+  EXPECT_EQ(text.find("warning: step", first + 1), std::string::npos) << "warned more than once";
+}
+
+}  // namespace
