@@ -3,9 +3,9 @@
 // Exit codes: 0 success, 1 the simulation failed (NaN, runaway grain; a snapshot is written),
 // 2 bad input (scenario, snapshot, command line), with a message naming the place.
 #include <fmt/format.h>
+#include <sys/resource.h>
 #include <CLI/CLI.hpp>
 #include <iostream>
-#include <sys/resource.h>
 
 #include "sable/contact/contact_model.hpp"
 #include "sable/core/error.hpp"

@@ -195,6 +195,29 @@ TEST(GenerationLattice, CylinderRegionKeepsGrainsInside) {
   }
 }
 
+// Guards the default spacing (2 r_max) on a region exactly n diameters wide: the lattice counts
+// n sites per row (its floor has a 1e-9 slack), so all n must be kept, in order: here 10 per
+// row for d = 1.5 mm in 15 mm. 1e-12 absolute: the rounding of lo + (i + 1/2) s.
+TEST(GenerationLattice, DefaultSpacingFillsAnExactFit) {
+  for (int dim : {2, 3}) {
+    SCOPED_TRACE(dim);
+    GrainsConfig b = lattice_block({0, 0, 0}, {0.015, 0.015, 0.015}, 0.75e-3, 0.0, 0);
+    b.spacing.reset();
+    b.count = dim == 3 ? 1000 : 100;
+    std::vector<GrainSeed> g;
+    try {
+      g = sable::generate_grains(b, dim, 1, {});
+    } catch (const InputError& e) {
+      ADD_FAILURE() << e.what();
+      continue;
+    }
+    ASSERT_EQ(g.size(), b.count);
+    for (std::size_t m = 0; m < 10; ++m)
+      EXPECT_NEAR(g[m].x[0], (static_cast<double>(m) + 0.5) * 1.5e-3, 1e-12) << "grain " << m;
+    EXPECT_NEAR(g[10].x[1], 2.25e-3, 1e-12);  // the second row starts after 10 grains
+  }
+}
+
 // Guards the error for a region too small for `count`: an InputError naming the block's
 // location, so the user can find the offending [[grains]] block (no tolerance: a message).
 TEST(GenerationLattice, TooSmallRegionNamesTheBlock) {
@@ -499,6 +522,39 @@ TEST_F(GenerationFiles, LammpsCountMismatchAndMissingFile) {
   }
   const std::string missing = (dir_ / "nope.data").string();
   EXPECT_THROW((void)sable::read_lammps_data(missing, 3), InputError);
+}
+
+// Guards the LAMMPS rule that the first line is a free-text title, always skipped: a title
+// mentioning "atoms" must neither be parsed as the atom count nor escape as a bare
+// std::invalid_argument (exact: decimal literals parse identically).
+TEST_F(GenerationFiles, LammpsTitleLineIsFreeText) {
+  std::string text = kHeader;
+  text.replace(0, text.find('\n'), "granular atoms of the test bed");
+  const std::string p = write("title.data", text +
+                                                "1 1 0.2 2500 0.1 0.2 0.3\n"
+                                                "2 1 0.4 2500 0.4 0.5 0.6\n"
+                                                "3 1 0.6 2500 0.7 0.8 0.9\n");
+  std::vector<GrainSeed> g;
+  ASSERT_NO_THROW(g = sable::read_lammps_data(p, 3));
+  ASSERT_EQ(g.size(), 3u);
+  EXPECT_EQ(g[2].x, (Vec3a{0.7, 0.8, 0.9}));
+}
+
+// Guards the error contract (every input error names where it is): an Atoms line whose id does
+// not fit a long is an InputError naming `file:line`, not a bare std::out_of_range.
+TEST_F(GenerationFiles, LammpsOversizedIdNamesFileAndLine) {
+  const std::string p = write("bigid.data", std::string(kHeader) +
+                                                "1 1 0.2 2500 0.1 0.2 0.3\n"
+                                                "99999999999999999999 1 0.4 2500 0.4 0.5 0.6\n"
+                                                "3 1 0.6 2500 0.7 0.8 0.9\n");
+  try {
+    (void)sable::read_lammps_data(p, 3);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(p + ":13"), std::string::npos) << e.what();
+  } catch (const std::exception& e) {
+    FAIL() << "expected an InputError naming " << p << ":13, got " << e.what();
+  }
 }
 
 }  // namespace

@@ -31,13 +31,19 @@ Vec<D> random_vec(sable::Rng& rng, double lo, double hi) {
   return v;
 }
 
-// A random vector of length below `len`, in a uniformly random direction.
+// A unit vector in a uniformly random direction.
 template <int D>
-Vec<D> random_step(sable::Rng& rng, double len) {
+Vec<D> random_dir(sable::Rng& rng) {
   Vec<D> v;
   do v = random_vec<D>(rng, -1.0, 1.0);
   while (v.squaredNorm() > 1.0 || v.squaredNorm() < 1e-6);
-  return v.normalized() * (len * rng.uniform());
+  return v.normalized();
+}
+
+// A random vector of length below `len`, in a uniformly random direction.
+template <int D>
+Vec<D> random_step(sable::Rng& rng, double len) {
+  return random_dir<D>(rng) * (len * rng.uniform());
 }
 
 template <int D>
@@ -327,7 +333,8 @@ TEST(NeighborList, NeedsRebuildCriterion) {
 }
 
 // Guards the completeness the skin promises: grains random-walking with persistent directions
-// (steps < skin/10, so pairs close in head-on at up to 2 skin per 10 steps), then nearly still
+// (steps of 0.098 skin, turning at random 1 step in 10, so pairs close in head-on at up to
+// 2 skin per 10 steps: a criterion rebuilding at max|dx| >= skin fails here), then nearly still
 // while the top wall closes in at 0.099 skin per step; rebuilt only when needs_rebuild says so.
 // At every step every truly touching grain pair and grain-wall pair (brute force) must be in
 // the list. Exact: a set membership.
@@ -338,7 +345,7 @@ TEST(NeighborList, NoTouchingPairMissedBetweenRebuilds) {
   std::vector<Vec<3>> step_of;
   for (int k = 0; k < 300; ++k) {
     p.add(random_vec<3>(rng, 0.0, 1.0), rng.uniform(0.04, 0.06), 2500.0, 0, 1.0);
-    step_of.push_back(random_step<3>(rng, 0.099 * skin));
+    step_of.push_back(random_dir<3>(rng) * (0.098 * skin));
   }
   auto walls = unit_box_walls<3>();
   sable::NeighborList<3> nl;
@@ -377,7 +384,7 @@ TEST(NeighborList, NoTouchingPairMissedBetweenRebuilds) {
     if (::testing::Test::HasFailure()) break;
     const bool still = step >= still_from;
     for (std::size_t k = 0; k < p.size(); ++k) {
-      if (rng.uniform() < 0.1) step_of[k] = random_step<3>(rng, 0.099 * skin);  // turn
+      if (rng.uniform() < 0.1) step_of[k] = random_dir<3>(rng) * (0.098 * skin);
       p.x[k] += still ? 0.01 * step_of[k] : step_of[k];
     }
     walls[5].point.z() -= (still ? 0.099 : 0.02) * skin;  // the top (z = 1) plane moves down

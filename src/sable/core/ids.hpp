@@ -34,7 +34,9 @@ class IdRegistry {
     slot_[index] = slot;
     return {index, generation_[index]};
   }
+  // Destroying a stale id is a no-op: it must never invalidate the live id reusing its index.
   void destroy(ParticleId id) {
+    if (!valid(id)) return;
     slot_[id.index] = kNoSlot;
     ++generation_[id.index];
     free_.push_back(id.index);

@@ -57,15 +57,20 @@ void region_bounds(const RegionConfig& r, Vec3a& lo, Vec3a& hi) {
   }
 }
 
+// A grain exactly touching the boundary is inside: the tolerance (1e-9 of the region's size)
+// absorbs the rounding of lattice sites computed as lo + (i + 1/2) s.
 bool inside_region(const RegionConfig& r, const Vec3a& x, double rad, int dim) {
   if (r.kind == RegionConfig::Kind::kBox) {
-    for (int d = 0; d < dim; ++d)
-      if (x[d] - rad < r.lo[d] || x[d] + rad > r.hi[d]) return false;
+    for (int d = 0; d < dim; ++d) {
+      const double tol = 1e-9 * (r.hi[d] - r.lo[d]);
+      if (x[d] - rad < r.lo[d] - tol || x[d] + rad > r.hi[d] + tol) return false;
+    }
     return true;
   }
+  const double tol = 1e-9 * std::max(r.radius, r.zhi - r.zlo);
   const double dx = x[0] - r.center[0], dy = x[1] - r.center[1];
-  return std::sqrt(dx * dx + dy * dy) + rad <= r.radius && x[2] - rad >= r.zlo &&
-         x[2] + rad <= r.zhi;
+  return std::sqrt(dx * dx + dy * dy) + rad <= r.radius + tol && x[2] - rad >= r.zlo - tol &&
+         x[2] + rad <= r.zhi + tol;
 }
 
 std::vector<GrainSeed> lattice(const GrainsConfig& b, int dim, std::uint64_t seed) {
@@ -197,32 +202,54 @@ std::vector<GrainSeed> random_insertion(const GrainsConfig& b, int dim, std::uin
 
 }  // namespace
 
+namespace {
+
+// Parse a whole token as a number, or fail with the file and line.
+template <class T>
+T parse_number(const std::string& token, const std::string& path, std::size_t lineno,
+               const char* what) {
+  std::istringstream ts(token);
+  T value{};
+  if (!(ts >> value) || !ts.eof())
+    throw InputError(fmt::format("{}:{}: expected {}, found '{}'", path, lineno, what, token));
+  return value;
+}
+
+}  // namespace
+
 std::vector<GrainSeed> read_lammps_data(const std::string& path, int dim) {
   std::ifstream in(path);
   if (!in) throw InputError(fmt::format("{}: cannot open the grain data file", path));
   std::string line;
-  std::size_t lineno = 0, natoms = 0;
+  std::getline(in, line);  // the first line is a free-text title, always skipped
+  std::size_t lineno = 1, natoms = 0;
   bool in_atoms = false;
-  std::map<long, GrainSeed> byid;
+  std::map<std::uint64_t, GrainSeed> byid;
   while (std::getline(in, line)) {
     ++lineno;
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.resize(hash);
     std::istringstream ls(line);
-    std::string first;
-    if (!(ls >> first)) continue;
+    std::vector<std::string> tok;
+    for (std::string t; ls >> t;) tok.push_back(t);
+    if (tok.empty()) continue;
     if (!in_atoms) {
-      if (line.find("atoms") != std::string::npos) natoms = std::stoul(first);
-      if (first == "Atoms") in_atoms = true;
+      if (tok.size() == 2 && tok[1] == "atoms")
+        natoms = parse_number<std::size_t>(tok[0], path, lineno, "the number of atoms");
+      if (tok[0] == "Atoms") in_atoms = true;
       continue;
     }
-    if (!std::isdigit(static_cast<unsigned char>(first[0]))) break;  // next section
-    long id = std::stol(first);
-    long type;
-    double diam, dens, x, y, z;
-    if (!(ls >> type >> diam >> dens >> x >> y >> z) || diam <= 0.0)
-      throw InputError(fmt::format(
-          "{}:{}: expected `id type diameter density x y z` with diameter > 0", path, lineno));
+    if (!std::isdigit(static_cast<unsigned char>(tok[0][0]))) break;  // the next section
+    if (tok.size() < 7)
+      throw InputError(
+          fmt::format("{}:{}: expected `id type diameter density x y z`", path, lineno));
+    const auto id = parse_number<std::uint64_t>(tok[0], path, lineno, "an atom id");
+    const double diam = parse_number<double>(tok[2], path, lineno, "a diameter");
+    if (!(diam > 0.0))
+      throw InputError(fmt::format("{}:{}: diameter {} must be > 0", path, lineno, tok[2]));
+    const double x = parse_number<double>(tok[4], path, lineno, "a coordinate");
+    const double y = parse_number<double>(tok[5], path, lineno, "a coordinate");
+    const double z = parse_number<double>(tok[6], path, lineno, "a coordinate");
     byid[id] = GrainSeed{{x, y, dim == 3 ? z : 0.0}, 0.5 * diam};
   }
   if (!in_atoms || byid.size() != natoms)
