@@ -7,7 +7,7 @@ packages=(
   cmake ninja-build g++ pkg-config git
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev libhdf5-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-numpy clang-format
+  python3 python3-numpy python3-matplotlib clang-format
 )
 
 missing=()

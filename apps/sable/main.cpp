@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "sable/cd/fc3d.hpp"
 #include "sable/contact/contact_model.hpp"
 #include "sable/core/error.hpp"
 #include "sable/io/snapshot.hpp"
@@ -51,6 +52,35 @@ int cmd_models() {
   return 0;
 }
 
+struct Fc3dOptions {
+  std::string local = "bipotential";
+  std::string order = "forward";
+  double tolerance = 1e-6;
+  int max_iterations = 1000;
+  double relaxation = 1.0;
+  std::uint64_t seed = 1;
+};
+
+int cmd_fc3d(const std::string& file, const Fc3dOptions& o) {
+  sable::cd::NlgsSettings s;
+  s.local = *sable::cd::parse_local_solver(o.local);  // values checked by CLI11
+  s.order = *sable::cd::parse_sweep_order(o.order);
+  s.criterion = sable::cd::Criterion::kNatural;
+  s.tolerance = o.tolerance;
+  s.max_iterations = o.max_iterations;
+  if (!(o.relaxation > 0.0 && o.relaxation < 2.0))
+    throw sable::InputError(fmt::format("--relaxation {}: expected 0 < w < 2", o.relaxation));
+  s.relaxation = o.relaxation;
+  const sable::cd::Fc3dReport r = sable::cd::solve_fc3d(file, s, o.seed);
+  std::cout << fmt::format(
+      "{}\n  contacts    {}\n  local       {}\n  order       {}\n  iterations  {}{}\n"
+      "  residual    {:.3e}\n  time        {:.6f} s\n",
+      file, r.contacts, o.local, o.order, r.iterations,
+      r.converged ? "" : fmt::format(" (not converged to {:g})", o.tolerance), r.residual,
+      r.seconds);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -70,6 +100,19 @@ int main(int argc, char** argv) {
   auto* info = app.add_subcommand("info", "describe a snapshot");
   info->add_option("SNAPSHOT", file, "snapshot file (.h5)")->required();
   auto* models = app.add_subcommand("models", "list the contact sub-models");
+  Fc3dOptions fc3d_opt;
+  auto* fc3d = app.add_subcommand("fc3d", "solve a Siconos frictional-contact problem (.dat)");
+  fc3d->add_option("FILE", file, "problem file (.dat)")->required();
+  fc3d->add_option("--local", fc3d_opt.local, "local solver")
+      ->check(CLI::IsMember({"bipotential", "exact"}));
+  fc3d->add_option("--tolerance", fc3d_opt.tolerance, "natural-map residual to reach")
+      ->check(CLI::NonNegativeNumber);
+  fc3d->add_option("--max-iterations", fc3d_opt.max_iterations, "NLGS sweeps at most")
+      ->check(CLI::PositiveNumber);
+  fc3d->add_option("--order", fc3d_opt.order, "sweep order")
+      ->check(CLI::IsMember({"forward", "alternating", "shuffled"}));
+  fc3d->add_option("--relaxation", fc3d_opt.relaxation, "relaxation w, 0 < w < 2");
+  fc3d->add_option("--seed", fc3d_opt.seed, "random seed of the shuffled order");
 
   try {
     app.parse(argc, argv);
@@ -81,6 +124,7 @@ int main(int argc, char** argv) {
     if (*check) return cmd_check(file);
     if (*info) return cmd_info(file);
     if (*models) return cmd_models();
+    if (*fc3d) return cmd_fc3d(file, fc3d_opt);
   } catch (const sable::InputError& e) {
     std::cerr << "error: " << e.what() << '\n';
     return 2;

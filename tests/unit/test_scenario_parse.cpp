@@ -464,7 +464,7 @@ TEST(ScenarioParse, LinearStiffness) {
 
 // Guards: enumerated strings (solver, contact laws, generator, jitter_rng).
 TEST(ScenarioParse, BadChoice) {
-  EXPECT_TRUE(RejectsEdit("seed = 7", "solver = \"cd\"", {"simulation.solver", "not available"}));
+  EXPECT_TRUE(RejectsEdit("seed = 7", "solver = \"fem\"", {"simulation.solver", "\"dem\""}));
   EXPECT_TRUE(RejectsAppended("[contact]\ntangential = \"mindlin\"\n", "mindlin",
                               {"contact.tangential", "one of", "\"history\""}));
   EXPECT_TRUE(RejectsEdit("spacing = 1.6667e-3", "jitter_rng = \"mt\"",

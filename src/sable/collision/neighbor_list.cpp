@@ -6,8 +6,8 @@
 namespace sable {
 
 template <int D>
-bool NeighborList<D>::needs_rebuild(const ParticleStore<D>& p,
-                                    const std::vector<Wall<D>>& walls) const {
+bool NeighborList<D>::needs_rebuild(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls,
+                                    double margin) const {
   if (x_ref.size() != p.size() || wall_ref.size() != walls.size()) return true;
   double max_d2 = 0.0;
   for (std::size_t k = 0; k < p.size(); ++k)
@@ -15,7 +15,7 @@ bool NeighborList<D>::needs_rebuild(const ParticleStore<D>& p,
   double max_w2 = 0.0;
   for (std::size_t w = 0; w < walls.size(); ++w)
     max_w2 = std::max(max_w2, (walls[w].point - wall_ref[w]).squaredNorm());
-  const double dp = std::sqrt(max_d2), dw = std::sqrt(max_w2);
+  const double dp = std::sqrt(max_d2) + margin, dw = std::sqrt(max_w2);
   // Two grains close in by at most 2 dp; a grain and a wall by at most dp + dw.
   return 2.0 * dp >= skin || dp + dw >= skin;
 }

@@ -60,8 +60,11 @@ class NeighborList {
   std::vector<Vec> wall_ref;  // wall points at the last build
   std::uint64_t builds = 0;
 
-  // True when some pair not in the lists might now be touching.
-  bool needs_rebuild(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls) const;
+  // True when some pair not in the lists might now be touching, or (with margin > 0) might
+  // touch after every grain moves `margin` further: contact dynamics asks for the contacts
+  // that can close during the coming step.
+  bool needs_rebuild(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls,
+                     double margin = 0.0) const;
   void build(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls);
 
  private:

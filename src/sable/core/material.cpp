@@ -22,6 +22,7 @@ std::optional<MaterialIndex> MaterialTable::find(const std::string& name) const 
 
 double MaterialTable::beta_from_restitution(double e) {
   if (e >= 1.0) return 0.0;
+  if (e <= 0.0) return -1.0;  // the limit e -> 0: critical damping
   const double l = std::log(e);
   return l / std::sqrt(l * l + std::numbers::pi * std::numbers::pi);
 }

@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 #include <cmath>
 
-#include "sable/core/error.hpp"
+#include "sable/world/guards.hpp"
 
 namespace sable {
 
@@ -37,7 +37,7 @@ void DemSolver<D>::step() {
   }
   w_.time += h;
   ++w_.step;
-  check_speeds();
+  check_grain_states(w_);
 }
 
 template <int D>
@@ -58,23 +58,6 @@ void DemSolver<D>::drift(double h) {
     if (p.inv_mass[k] == 0.0) continue;
     p.x[k] += h * p.v[k];
     p.q[k] = Space<D>::rotate(p.q[k], p.w[k], h);
-  }
-}
-
-template <int D>
-void DemSolver<D>::check_speeds() const {
-  const auto& p = w_.particles;
-  const double vmax2 = w_.max_speed * w_.max_speed;
-  for (std::size_t k = 0; k < p.size(); ++k) {
-    const double v2 = p.v[k].squaredNorm();
-    if (!(v2 <= vmax2) || !std::isfinite(Space<D>::rot_norm2(p.w[k])) || !p.x[k].allFinite()) {
-      throw SimulationError(fmt::format(
-          "step {}: grain id {} has {} (speed {:.4g} m/s, max_speed {:.4g} m/s); the time step "
-          "may be too large for the contact stiffness, or grains were inserted overlapping",
-          w_.step, p.id[k].index,
-          std::isfinite(v2) && p.x[k].allFinite() ? "run away" : "a non-finite state",
-          std::sqrt(v2), w_.max_speed));
-    }
   }
 }
 

@@ -22,7 +22,6 @@ class DemSolver final : public Solver {
  private:
   void kick(double h);
   void drift(double h);
-  void check_speeds() const;
   template <class Normal>
   void pair_forces();
   template <class Normal>

@@ -7,9 +7,11 @@
 
 namespace sable {
 
-enum class Phase : int { kIntegrate, kNeighbors, kForces, kWallForces, kCount };
+// DEM uses the first four phases, contact dynamics integrate, neighbors, contacts and solve;
+// a summary lists the phases that took time.
+enum class Phase : int { kIntegrate, kNeighbors, kForces, kWallForces, kContacts, kSolve, kCount };
 inline constexpr std::array<std::string_view, static_cast<int>(Phase::kCount)> kPhaseNames = {
-    "integrate", "neighbors", "pair forces", "wall forces"};
+    "integrate", "neighbors", "pair forces", "wall forces", "contact build", "NLGS solve"};
 
 class PhaseTimers {
  public:

@@ -79,8 +79,13 @@ std::vector<GrainSeed> lattice(const GrainsConfig& b, int dim, std::uint64_t see
   const double s = b.spacing.value_or(2.0 * radii.max());
   Vec3a lo, hi;
   region_bounds(b.region, lo, hi);
+  // Square: the same pitch s on every axis. Hexagonal: rows along x, sqrt(3)/2 s apart along
+  // y, odd rows shifted by s/2 (in 3D such layers stack along z at pitch s).
+  const bool hex = b.arrangement == "hexagonal";
+  const std::array<double, 3> pitch{s, hex ? s * std::sqrt(3.0) / 2.0 : s, s};
   std::array<long, 3> n{1, 1, 1};
-  for (int d = 0; d < dim; ++d) n[d] = static_cast<long>(std::floor((hi[d] - lo[d]) / s + 1e-9));
+  for (int d = 0; d < dim; ++d)
+    n[d] = static_cast<long>(std::floor((hi[d] - lo[d] - s) / pitch[d] + 1.0 + 1e-9));
   // Jitter draws come in row-major (grain, axis) order, as numpy's uniform(size=(N, dim)).
   NumpyPcg64 pcg(seed);
   Rng jitter_rng(seed ^ 0x5bd1e995ULL);
@@ -90,17 +95,15 @@ std::vector<GrainSeed> lattice(const GrainsConfig& b, int dim, std::uint64_t see
                                          : jitter_rng.uniform(-b.jitter, b.jitter);
   };
   std::vector<GrainSeed> out;
-  const long layers = dim == 3 ? n[2] : n[1];
-  for (long k = 0; k < layers && out.size() < b.count; ++k) {
-    for (long j = 0; j < (dim == 3 ? n[1] : 1) && out.size() < b.count; ++j) {
+  for (long k = 0; k < n[2] && out.size() < b.count; ++k) {
+    for (long j = 0; j < n[1] && out.size() < b.count; ++j) {
+      const double shift = hex && (j % 2 == 1) ? 0.5 * s : 0.0;
       for (long i = 0; i < n[0] && out.size() < b.count; ++i) {
-        Vec3a x{lo[0] + (static_cast<double>(i) + 0.5) * s, 0.0, 0.0};
-        if (dim == 3) {
-          x[1] = lo[1] + (static_cast<double>(j) + 0.5) * s;
-          x[2] = lo[2] + (static_cast<double>(k) + 0.5) * s;
-        } else {
-          x[1] = lo[1] + (static_cast<double>(k) + 0.5) * s;
-        }
+        const std::array<long, 3> idx{i, j, k};
+        Vec3a x{0.0, 0.0, 0.0};
+        for (int d = 0; d < dim; ++d)
+          x[d] = lo[d] + 0.5 * s + static_cast<double>(idx[d]) * pitch[d];
+        x[0] += shift;
         const double r = radii.next();
         for (int d = 0; d < dim; ++d) x[d] += jitter();
         if (!inside_region(b.region, x, r, dim)) continue;

@@ -6,7 +6,9 @@
 #include <limits>
 #include <numbers>
 
+#include "sable/cd/cd_solver.hpp"
 #include "sable/core/error.hpp"
+#include "sable/dem/dem_solver.hpp"
 #include "sable/generation/generate.hpp"
 
 namespace sable {
@@ -139,6 +141,29 @@ std::vector<std::size_t> walls_named(const World<D>& w, const std::string& key) 
   return out;
 }
 
+template <int D>
+std::unique_ptr<Solver> make_solver(const ScenarioConfig& cfg, World<D>& world) {
+  if (cfg.sim.solver != "cd") return std::make_unique<DemSolver<D>>(world);
+  const CdConfig& c = cfg.cd;
+  CdSettings s;
+  s.theta = c.theta;
+  s.warm_start = c.warm_start;
+  s.nlgs.tolerance = c.tolerance;
+  s.nlgs.max_iterations = static_cast<int>(std::min<std::uint64_t>(c.max_iterations, 1u << 30));
+  s.nlgs.relaxation = c.relaxation;
+  s.nlgs.local =
+      c.local_solver == "exact" ? cd::LocalSolver::kExact : cd::LocalSolver::kBipotential;
+  s.nlgs.order = c.sweep == "alternating" ? cd::SweepOrder::kAlternating
+                 : c.sweep == "shuffled"  ? cd::SweepOrder::kShuffled
+                                          : cd::SweepOrder::kForward;
+  s.nlgs.criterion = c.criterion == "quad"   ? cd::Criterion::kQuad
+                     : c.criterion == "maxm" ? cd::Criterion::kMaxm
+                                             : cd::Criterion::kNatural;
+  return std::make_unique<CdSolver<D>>(world, s);
+}
+
+template std::unique_ptr<Solver> make_solver<2>(const ScenarioConfig&, World<2>&);
+template std::unique_ptr<Solver> make_solver<3>(const ScenarioConfig&, World<3>&);
 template void build_model<2>(const ScenarioConfig&, World<2>&);
 template void build_model<3>(const ScenarioConfig&, World<3>&);
 template void build_grains<2>(const ScenarioConfig&, World<2>&);

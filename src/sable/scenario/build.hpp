@@ -3,7 +3,10 @@
 // snapshot supplies it when resuming.
 #pragma once
 
+#include <memory>
+
 #include "sable/scenario/config.hpp"
+#include "sable/world/solver.hpp"
 #include "sable/world/world.hpp"
 
 namespace sable {
@@ -24,5 +27,9 @@ double automatic_time_step(const ScenarioConfig& cfg, const World<D>& world);
 // Indices of the walls a stage's `wall_velocity` key names (a box name means all its planes).
 template <int D>
 std::vector<std::size_t> walls_named(const World<D>& world, const std::string& key);
+
+// The time stepper the scenario asks for (simulation.solver), bound to `world`.
+template <int D>
+std::unique_ptr<Solver> make_solver(const ScenarioConfig& cfg, World<D>& world);
 
 }  // namespace sable

@@ -42,6 +42,19 @@ struct SimulationConfig {
   double max_speed = 1.0e3;       // m/s; a faster grain is a runaway and stops the run
 };
 
+// Contact dynamics (solver = "cd"): Moreau-Jean time stepping and the NLGS contact solver.
+struct CdConfig {
+  double theta = 0.5;                        // in [0.5, 1]: weight of end-of-step smooth forces
+  double tolerance = 1e-4;                   // NLGS stops when the criterion falls below it
+  std::uint64_t max_iterations = 1000;       // NLGS sweeps per step at most
+  std::string criterion = "natural";         // "natural" | "quad" | "maxm"
+  std::string local_solver = "bipotential";  // "bipotential" | "exact"
+  std::string sweep = "forward";             // "forward" | "alternating" | "shuffled"
+  double relaxation = 1.0;                   // in (0, 2)
+  bool warm_start = true;                    // start each step from the last step's impulses
+  SourceLoc loc;
+};
+
 struct DomainConfig {
   Vec3a lo{0, 0, 0};
   Vec3a hi{0, 0, 0};
@@ -90,9 +103,12 @@ struct GrainsConfig {
   RadiusConfig radius;
   RegionConfig region;
   std::size_t count = 0;
-  std::optional<double> spacing;      // lattice spacing; default 2 * max radius
-  double jitter = 0.0;                // lattice: uniform +-jitter on every coordinate (m)
-  std::string jitter_rng = "sable";   // "sable" | "numpy-pcg64" (bit-compatible with numpy)
+  std::optional<double> spacing;     // lattice spacing; default 2 * max radius
+  double jitter = 0.0;               // lattice: uniform +-jitter on every coordinate (m)
+  std::string jitter_rng = "sable";  // "sable" | "numpy-pcg64" (bit-compatible with numpy)
+  // "square" (cubic in 3D) | "hexagonal": rows (layers) offset by half a spacing, rows
+  // sqrt(3)/2 spacing apart in 2D (in 3D: hexagonal layers stacked at the square pitch)
+  std::string arrangement = "square";
   std::optional<std::uint64_t> seed;  // default: simulation seed
   std::vector<Vec3a> positions;       // generator = "list"
   std::string file;                   // generator = "file": LAMMPS/LIGGGHTS data file
@@ -142,6 +158,7 @@ struct ScenarioConfig {
   std::vector<MaterialConfig> materials;
   std::vector<PairOverrideConfig> overrides;
   ContactConfig contact;
+  CdConfig cd;
   std::vector<GrainsConfig> grains;
   std::vector<WallConfig> walls;
   std::vector<StageConfig> stages;

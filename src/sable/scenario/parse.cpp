@@ -47,9 +47,6 @@ SimulationConfig parse_simulation(const Table& root) {
     sim.dimension = static_cast<int>(value->get());
   }
   sim.solver = t->choice("solver", {"dem", "cd"}, "dem");
-  if (sim.solver == "cd") {
-    t->fail("solver", "\"dem\" (the contact-dynamics solver \"cd\" is not available yet)");
-  }
   sim.seed = t->unsigned_or("seed", sim.seed);
   sim.dt = t->number("dt", kPositive);
   sim.dt_safety = t->number_or("dt_safety", Range{0.0, 1.0, true, false}, sim.dt_safety);
@@ -76,15 +73,17 @@ DomainConfig parse_domain(const Table& root, int dim) {
 
 // --- [[material]], [[material_pair]], [contact] -----------------------------------------------
 
-MaterialConfig parse_material(const Table& t) {
+// Contact dynamics treats grains as rigid: young and poisson are then optional (unused).
+MaterialConfig parse_material(const Table& t, bool rigid_grains) {
   t.check_keys({"name", "density", "young", "poisson", "restitution", "friction",
                 "rolling_friction", "rigid"});
   MaterialConfig mc;
   Material& m = mc.material;
   m.name = t.required_string("name");
   m.rigid = t.boolean_or("rigid", false);
-  if (m.rigid) {
-    m.density = t.number_or("density", kPositive, 0.0);
+  if (m.rigid || rigid_grains) {
+    m.density =
+        m.rigid ? t.number_or("density", kPositive, 0.0) : t.required_number("density", kPositive);
     m.young = t.number_or("young", kPositive, 0.0);
     m.poisson = t.number_or("poisson", kPoisson, 0.0);
   } else {
@@ -99,10 +98,10 @@ MaterialConfig parse_material(const Table& t) {
   return mc;
 }
 
-std::vector<MaterialConfig> parse_materials(const Table& root) {
+std::vector<MaterialConfig> parse_materials(const Table& root, bool rigid_grains) {
   std::vector<MaterialConfig> out;
   for (const Table& t : root.table_array("material")) {
-    MaterialConfig mc = parse_material(t);
+    MaterialConfig mc = parse_material(t, rigid_grains);
     for (const MaterialConfig& prev : out) {
       if (prev.material.name == mc.material.name) {
         t.fail("name", "a unique name (material " + in_quotes(mc.material.name) +
@@ -189,6 +188,25 @@ ContactConfig parse_contact(const Table& root) {
   } else {
     c.kt = t->required_number("kt", kPositive);
   }
+  return c;
+}
+
+CdConfig parse_cd(const Table& root, const std::string& solver) {
+  CdConfig c;
+  const auto t = root.table("cd");
+  if (!t) return c;
+  if (solver != "cd") root.reject("cd", "unless simulation.solver = \"cd\"");
+  t->check_keys({"theta", "tolerance", "max_iterations", "criterion", "local_solver", "sweep",
+                 "relaxation", "warm_start"});
+  c.theta = t->number_or("theta", Range{0.5, 1.0, false, false}, c.theta);
+  c.tolerance = t->number_or("tolerance", kPositive, c.tolerance);
+  c.max_iterations = t->unsigned_or("max_iterations", c.max_iterations, 1);
+  c.criterion = t->choice("criterion", {"natural", "quad", "maxm"}, c.criterion);
+  c.local_solver = t->choice("local_solver", {"bipotential", "exact"}, c.local_solver);
+  c.sweep = t->choice("sweep", {"forward", "alternating", "shuffled"}, c.sweep);
+  c.relaxation = t->number_or("relaxation", Range{0.0, 2.0, true, true}, c.relaxation);
+  c.warm_start = t->boolean_or("warm_start", c.warm_start);
+  c.loc = t->loc();
   return c;
 }
 
@@ -282,6 +300,7 @@ void reject_foreign_grain_keys(const Table& g, const std::string& gen) {
                                          {"spacing", {"lattice"}},
                                          {"jitter", {"lattice"}},
                                          {"jitter_rng", {"lattice"}},
+                                         {"arrangement", {"lattice"}},
                                          {"max_attempts", {"random"}},
                                          {"positions", {"list"}},
                                          {"file", {"file"}}};
@@ -333,6 +352,7 @@ void parse_generator_keys(const Table& g, GrainsConfig& gc, int dim) {
     gc.spacing = g.number("spacing", kPositive);
     gc.jitter = g.number_or("jitter", kNonNegative, gc.jitter);
     gc.jitter_rng = g.choice("jitter_rng", {"sable", "numpy-pcg64"}, gc.jitter_rng);
+    gc.arrangement = g.choice("arrangement", {"square", "hexagonal"}, gc.arrangement);
   } else if (gc.generator == "random") {
     gc.max_attempts = static_cast<std::size_t>(g.unsigned_or("max_attempts", gc.max_attempts, 1));
   } else if (gc.generator == "list") {
@@ -344,7 +364,8 @@ void parse_generator_keys(const Table& g, GrainsConfig& gc, int dim) {
 
 GrainsConfig parse_grains_entry(const Table& g, const ScenarioConfig& cfg) {
   g.check_keys({"generator", "material", "radius", "region", "count", "spacing", "jitter",
-                "jitter_rng", "seed", "positions", "file", "velocity", "fixed", "max_attempts"});
+                "jitter_rng", "seed", "positions", "file", "velocity", "fixed", "max_attempts",
+                "arrangement"});
   const int dim = cfg.sim.dimension;
   GrainsConfig gc;
   gc.generator = g.choice("generator", {"lattice", "random", "list", "file"}, "");
@@ -533,16 +554,22 @@ OutputConfig parse_output(const Table& root) {
 ScenarioConfig parse_scenario(const std::string& text, const std::string& path) {
   const toml::table doc = detail::parse_document(text, path);
   const Table root(doc, "", path);
-  root.check_keys({"simulation", "domain", "material", "material_pair", "contact", "grains", "wall",
-                   "stage", "output"});
+  root.check_keys({"simulation", "domain", "material", "material_pair", "contact", "cd", "grains",
+                   "wall", "stage", "output"});
   ScenarioConfig cfg;
   cfg.path = path;
   cfg.text = text;
   cfg.sim = parse_simulation(root);
   cfg.domain = parse_domain(root, cfg.sim.dimension);
-  cfg.materials = parse_materials(root);
+  cfg.materials = parse_materials(root, cfg.sim.solver == "cd");
   cfg.overrides = parse_pairs(root, cfg.materials);
   cfg.contact = parse_contact(root);
+  cfg.cd = parse_cd(root, cfg.sim.solver);
+  if (cfg.sim.solver == "cd" && !cfg.sim.dt) {
+    root.fail_missing("simulation.dt",
+                      "a time step: contact dynamics has no automatic dt (choose "
+                      "it so grains move a small fraction of a radius per step)");
+  }
   for (const Table& g : root.table_array("grains"))
     cfg.grains.push_back(parse_grains_entry(g, cfg));
   std::vector<std::string> wall_names;

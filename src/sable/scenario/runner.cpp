@@ -8,7 +8,6 @@
 #include <memory>
 
 #include "sable/core/error.hpp"
-#include "sable/dem/dem_solver.hpp"
 #include "sable/io/csv.hpp"
 #include "sable/io/snapshot.hpp"
 #include "sable/io/vtk.hpp"
@@ -29,7 +28,7 @@ class Runner {
         out_(opt.out_dir.empty() ? cfg.output.dir : opt.out_dir),
         progress_(*opt.log, opt.live_progress.value_or(isatty(STDERR_FILENO) == 1),
                   cfg.output.log_interval),
-        solver_(world_) {}
+        solver_(make_solver(cfg, world_)) {}
 
   RunResult run();
 
@@ -60,11 +59,12 @@ class Runner {
   fs::path out_;
   World<D> world_;
   ProgressReporter progress_;
-  DemSolver<D> solver_;
+  std::unique_ptr<Solver> solver_;
   RunPosition pos_;
   std::optional<CsvLog> csv_;
   std::optional<PvdSeries> grains_pvd_, contacts_pvd_, walls_pvd_;
   bool warned_overlap_ = false;
+  bool warned_unconverged_ = false;
 };
 
 template <int D>
@@ -72,7 +72,7 @@ void Runner<D>::setup() {
   build_model(cfg_, world_);
   if (opt_.resume.empty()) {
     build_grains(cfg_, world_);
-    solver_.initialize();
+    solver_->initialize();
   } else {
     std::string text;
     pos_ = load_snapshot(opt_.resume, world_, &text);
@@ -98,6 +98,7 @@ void Runner<D>::open_outputs(bool resuming) {
                                 "touching_contacts",
                                 "coordination",
                                 "max_overlap_over_radius"};
+  for (const auto& c : solver_->diagnostic_columns()) cols.push_back(c);
   for (const auto& wall : world_.walls)
     for (const char* ax : {"x", "y", "z"}) {
       if (D == 2 && ax[0] == 'z') continue;
@@ -124,7 +125,7 @@ ProgressSample Runner<D>::sample() const {
   s.stage_total = st.steps ? *st.steps : st.max_steps;
   s.time = world_.time;
   s.kinetic_energy = kinetic_energy(world_);
-  s.contacts = solver_.diagnostics().touching;
+  s.contacts = solver_->diagnostics().touching;
   s.grains = world_.particles.size();
   return s;
 }
@@ -161,13 +162,20 @@ template <int D>
 void Runner<D>::after_step() {
   const auto step = world_.step;
   const auto& o = cfg_.output;
-  const auto& diag = solver_.diagnostics();
+  const auto& diag = solver_->diagnostics();
   if (!warned_overlap_ && diag.max_overlap_ratio > world_.overlap_warning) {
     warned_overlap_ = true;
     progress_.message(fmt::format(
         "warning: step {}: an overlap reached {:.3g} of the grain radius (overlap_warning = "
         "{:.3g}); the grains may be too soft or the time step too large",
         step, diag.max_overlap_ratio, world_.overlap_warning));
+  }
+  if (!warned_unconverged_ && !diag.converged) {
+    warned_unconverged_ = true;
+    progress_.message(
+        fmt::format("warning: step {}: the contact solver stopped unconverged after {} iterations "
+                    "(residual {:.3g}); raise cd.max_iterations or loosen cd.tolerance",
+                    step, diag.iterations, diag.residual));
   }
   if (progress_.due(step)) progress_.report(sample());
   if (!opt_.write_outputs) return;
@@ -209,7 +217,8 @@ void Runner<D>::write_csv_row() {
                           kinetic_energy(world_),
                           static_cast<double>(pairs + walls),
                           (2.0 * static_cast<double>(pairs) + static_cast<double>(walls)) / n,
-                          solver_.diagnostics().max_overlap_ratio};
+                          solver_->diagnostics().max_overlap_ratio};
+  solver_->diagnostic_values(row);
   for (const auto& wall : world_.walls)
     for (int d = 0; d < D; ++d) row.push_back(wall.force[d]);
   csv_->row(row);
@@ -225,9 +234,10 @@ std::string Runner<D>::stage_summary(const StageClock& c) const {
   std::string phases;
   double total = 0.0;
   for (int k = 0; k < static_cast<int>(Phase::kCount); ++k)
-    total += solver_.timers().seconds(static_cast<Phase>(k)) - c.phase_seconds[k];
+    total += solver_->timers().seconds(static_cast<Phase>(k)) - c.phase_seconds[k];
   for (int k = 0; k < static_cast<int>(Phase::kCount); ++k) {
-    const double t = solver_.timers().seconds(static_cast<Phase>(k)) - c.phase_seconds[k];
+    const double t = solver_->timers().seconds(static_cast<Phase>(k)) - c.phase_seconds[k];
+    if (t == 0.0) continue;
     phases += fmt::format("{}{} {:.0f}%", k ? ", " : "", kPhaseNames[k],
                           total > 0 ? 100.0 * t / total : 0.0);
   }
@@ -245,9 +255,9 @@ RunResult Runner<D>::run() {
   try {
     for (; pos_.stage < cfg_.stages.size(); ++pos_.stage, pos_.stage_step = 0) {
       if (pos_.stage_step == 0) start_stage();
-      const StageClock clock(world_.step, solver_.timers());
+      const StageClock clock(world_.step, solver_->timers());
       while (!stage_done()) {
-        solver_.step();
+        solver_->step();
         ++pos_.stage_step;
         after_step();
       }

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# CD benchmark: NLGS sweeps per step to tolerance 1e-4 and nanoseconds per contact per sweep,
+# on the settled 20,000-sphere bed of examples/pour.toml (settled by DEM, then resumed by CD).
+# Usage: bench/pour_cd.sh [LOCAL_SOLVER]   (bipotential | exact)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+local_solver="${1:-bipotential}"
+bash scripts/build.sh release >/dev/null
+work=out/bench-pour-cd
+mkdir -p "$work"
+snap="$work/dem/snapshots/end_of_stage_1.h5"
+if [ ! -f "$snap" ]; then
+  sed -e 's/^vtk_interval = .*/vtk_interval = 0/' examples/pour.toml > "$work/pour.toml"
+  ./build/release/bin/sable run "$work/pour.toml" --out "$work/dem" 2>/dev/null
+fi
+sed "s/^criterion = .*/criterion = \"natural\"\nlocal_solver = \"$local_solver\"/" bench/pour_cd.toml > "$work/pour_cd.toml"
+rm -rf "$work/cd"
+./build/release/bin/sable run "$work/pour_cd.toml" --out "$work/cd" --resume "$snap" \
+  2> "$work/cd.log"
+grep -E "^stage 'cd' done|^done:|warning" "$work/cd.log" || true
+info=$(./build/release/bin/sable info "$work/cd/snapshots/end_of_stage_2.h5")
+contacts=$(echo "$info" | sed -n 's/.*pair lists *\([0-9]*\) grain-grain, \([0-9]*\) grain-wall.*/\1 \2/p')
+/usr/bin/python3 - "$work/cd/series.csv" "$work/cd.log" $contacts <<'PY'
+import csv, re, sys
+rows = list(csv.DictReader(open(sys.argv[1])))[1:]  # drop the resume row
+log = open(sys.argv[2]).read()
+m = re.search(r"stage 'cd' done: (\d+) steps in ([\d.]+) s.*NLGS solve (\d+)%", log)
+steps, secs, solve_pct = int(m.group(1)), float(m.group(2)), float(m.group(3))
+sweeps = [float(r["nlgs_iterations"]) for r in rows]
+contacts = int(sys.argv[3]) + int(sys.argv[4])
+ns = secs * solve_pct / 100 / (sum(sweeps) * contacts) * 1e9
+print(f"steps {steps}, candidate contacts {contacts}, sweeps/step mean {sum(sweeps)/len(sweeps):.1f} "
+      f"(min {min(sweeps):.0f}, max {max(sweeps):.0f}), NLGS {secs*solve_pct/100:.2f} s, "
+      f"{ns:.1f} ns per contact per sweep, final residual {float(rows[-1]['nlgs_residual']):.2e}")
+PY

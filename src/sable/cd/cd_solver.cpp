@@ -1,0 +1,274 @@
+#include "sable/cd/cd_solver.hpp"
+
+#include <cmath>
+
+#include "sable/world/guards.hpp"
+
+namespace sable {
+
+// The grain problem seen by NLGS: U_a = frame_a^T (relative velocity at the contact point),
+// computed from the grains' current velocities, which apply() keeps consistent with the
+// impulses. Nothing is assembled beyond the diagonal blocks: memory O(contacts).
+template <int D>
+class CdSolver<D>::Problem {
+ public:
+  Problem(Contacts& c, ParticleStore<D>& p, const std::vector<Wall<D>>& walls, double h)
+      : c_(c), p_(p), walls_(walls), inv_h_(1.0 / h) {}
+  std::size_t size() const { return c_.size(); }
+  const LMat& W(std::size_t a) const { return c_.w[a]; }
+  double mu(std::size_t a) const { return c_.mu[a]; }
+  LVec& r(std::size_t a) { return c_.r[a]; }
+  double q_norm() const { return q_norm_; }
+  void set_q_norm(double q) { q_norm_ = q; }
+
+  LVec velocity(std::size_t a) const {
+    using S = Space<D>;
+    const std::uint32_t i = c_.i[a], j = c_.partner[a];
+    Vec vrel = p_.v[i] + S::spin_velocity(p_.w[i], c_.arm_i[a]);
+    if (c_.wall[a]) {
+      vrel -= walls_[j].velocity;
+    } else {
+      vrel -= p_.v[j] + S::spin_velocity(p_.w[j], c_.arm_j[a]);
+    }
+    LVec u = c_.frame[a].transpose() * vrel;
+    u[0] += std::max(c_.gap[a], 0.0) * inv_h_;
+    return u;
+  }
+
+  void apply(std::size_t a, const LVec& dr) {
+    using S = Space<D>;
+    c_.r[a] += dr;
+    const Vec impulse = c_.frame[a] * dr;
+    const std::uint32_t i = c_.i[a], j = c_.partner[a];
+    p_.v[i] += p_.inv_mass[i] * impulse;
+    p_.w[i] += p_.inv_inertia[i] * S::moment(c_.arm_i[a], impulse);
+    if (!c_.wall[a]) {
+      p_.v[j] -= p_.inv_mass[j] * impulse;
+      p_.w[j] -= p_.inv_inertia[j] * S::moment(c_.arm_j[a], impulse);
+    }
+  }
+
+ private:
+  Contacts& c_;
+  ParticleStore<D>& p_;
+  const std::vector<Wall<D>>& walls_;
+  double inv_h_;
+  double q_norm_ = 0.0;
+};
+
+template <int D>
+void CdSolver<D>::Contacts::clear() {
+  i.clear();
+  partner.clear();
+  wall.clear();
+  source.clear();
+  frame.clear();
+  arm_i.clear();
+  arm_j.clear();
+  w.clear();
+  mu.clear();
+  gap.clear();
+  r.clear();
+}
+
+namespace {
+
+// An orthonormal frame [n, t1 (, t2)] chosen deterministically from n alone.
+template <int D>
+cd::LMat<D> contact_frame(const typename Space<D>::Vec& n) {
+  cd::LMat<D> f;
+  f.col(0) = n;
+  if constexpr (D == 2) {
+    f.col(1) = Eigen::Vector2d(-n.y(), n.x());
+  } else {
+    int k = 0;  // the axis least aligned with n gives the best-conditioned cross product
+    for (int a = 1; a < 3; ++a)
+      if (std::abs(n[a]) < std::abs(n[k])) k = a;
+    const Eigen::Vector3d t1 = n.cross(Eigen::Vector3d::Unit(k)).normalized();
+    f.col(1) = t1;
+    f.col(2) = n.cross(t1);
+  }
+  return f;
+}
+
+}  // namespace
+
+template <int D>
+void CdSolver<D>::initialize() {
+  w_.neighbors.build(w_.particles, w_.walls);
+}
+
+// One Moreau-Jean step:
+//   free velocity   v_free = v + h M^-1 [(1 - theta) f(t) + theta f(t + h)]  (gravity here)
+//   contacts        every candidate of the neighbour lists, frame and Delassus block at x(t)
+//   impulses        NLGS: find r with U = W r + q satisfying Signorini-Coulomb, where the
+//                   normal velocity is U_N + max(gap, 0) / h (a grain may close an open gap
+//                   within the step, never cross it), warm-started from the last step
+//   positions       x(t + h) = x(t) + h v(t + h), from the new velocities
+template <int D>
+void CdSolver<D>::step() {
+  using S = Space<D>;
+  const double h = w_.dt;
+  auto& p = w_.particles;
+  {
+    auto scope = timers_.time(Phase::kIntegrate);
+    // Gravity is constant, so the theta weighting of smooth forces leaves h g.
+    for (std::size_t k = 0; k < p.size(); ++k)
+      if (p.inv_mass[k] != 0.0) p.v[k] += h * w_.gravity;
+  }
+  {
+    auto scope = timers_.time(Phase::kNeighbors);
+    // Contacts that can close during this step must be candidates now.
+    if (w_.neighbors.needs_rebuild(p, w_.walls, 2.0 * h * max_speed()))
+      w_.neighbors.build(p, w_.walls);
+  }
+  {
+    auto scope = timers_.time(Phase::kContacts);
+    build_contacts();
+  }
+  {
+    auto scope = timers_.time(Phase::kSolve);
+    Problem problem(c_, p, w_.walls, h);
+    double q2 = 0.0;
+    for (std::size_t a = 0; a < c_.size(); ++a) q2 += problem.velocity(a).squaredNorm();
+    problem.set_q_norm(std::sqrt(q2));
+    // Warm start: the impulses found at build (last step's, in the new frames) act at once.
+    for (std::size_t a = 0; a < c_.size(); ++a) {
+      const LVec r0 = c_.r[a];
+      c_.r[a].setZero();
+      if (r0.squaredNorm() > 0.0) problem.apply(a, r0);
+    }
+    result_ = cd::solve_nlgs<D>(problem, s_.nlgs, w_.rng);
+  }
+  store_impulses();
+  {
+    auto scope = timers_.time(Phase::kIntegrate);
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      if (p.inv_mass[k] == 0.0) continue;
+      p.x[k] += h * p.v[k];
+      p.q[k] = S::rotate(p.q[k], p.w[k], h);
+    }
+    for (auto& wall : w_.walls) wall.point += h * wall.velocity;
+  }
+  w_.time += h;
+  ++w_.step;
+  diag_.iterations = result_.iterations;
+  diag_.residual = result_.residual;
+  diag_.converged = result_.converged;
+  if (!result_.converged) ++unconverged_;
+  check_grain_states(w_);
+}
+
+template <int D>
+double CdSolver<D>::max_speed() const {
+  const auto& p = w_.particles;
+  double vmax = 0.0;
+  for (std::size_t k = 0; k < p.size(); ++k)
+    vmax = std::max(vmax, p.v[k].norm() + p.radius[k] * std::sqrt(Space<D>::rot_norm2(p.w[k])));
+  return vmax;
+}
+
+template <int D>
+template <bool kWall>
+void CdSolver<D>::add_contact(std::uint32_t i, std::uint32_t partner, std::uint32_t source,
+                              const Vec& n, double gap, const Vec& arm_i, const Vec& arm_j,
+                              double mu, const Vec& force) {
+  using S = Space<D>;
+  const auto& p = w_.particles;
+  const LMat frame = contact_frame<D>(n);
+  // Delassus block, column by column: the relative velocity change per unit local impulse.
+  LMat w;
+  for (int c = 0; c < D; ++c) {
+    const Vec P = frame.col(c);
+    Vec dv = p.inv_mass[i] * P + S::spin_velocity(p.inv_inertia[i] * S::moment(arm_i, P), arm_i);
+    if constexpr (!kWall)
+      dv += p.inv_mass[partner] * P +
+            S::spin_velocity(p.inv_inertia[partner] * S::moment(arm_j, P), arm_j);
+    w.col(c) = frame.transpose() * dv;
+  }
+  c_.i.push_back(i);
+  c_.partner.push_back(partner);
+  c_.wall.push_back(kWall ? 1 : 0);
+  c_.source.push_back(source);
+  c_.frame.push_back(frame);
+  c_.arm_i.push_back(arm_i);
+  c_.arm_j.push_back(arm_j);
+  c_.w.push_back(w);
+  c_.mu.push_back(mu);
+  c_.gap.push_back(gap);
+  c_.r.push_back(s_.warm_start ? LVec(frame.transpose() * force * w_.dt) : LVec::Zero());
+}
+
+template <int D>
+void CdSolver<D>::build_contacts() {
+  c_.clear();
+  const auto& p = w_.particles;
+  const auto& pl = w_.neighbors.pairs;
+  for (std::size_t k = 0; k < pl.size(); ++k) {
+    const std::uint32_t i = pl.i[k], j = pl.j[k];
+    const Vec d = p.x[i] - p.x[j];
+    const double dist = d.norm();
+    const Vec n = d / dist;
+    const double mu = w_.materials.pair(p.material[i], p.material[j]).friction;
+    add_contact<false>(i, j, static_cast<std::uint32_t>(k), n, dist - p.radius[i] - p.radius[j],
+                       -p.radius[i] * n, p.radius[j] * n, mu, pl.force[k]);
+  }
+  const auto& wl = w_.neighbors.wall_pairs;
+  for (std::size_t k = 0; k < wl.size(); ++k) {
+    const std::uint32_t i = wl.i[k];
+    const Wall<D>& wall = w_.walls[wl.wall[k]];
+    Vec n;
+    const double dist = wall.distance(p.x[i], n);
+    const double mu = w_.materials.pair(p.material[i], wall.material).friction;
+    add_contact<true>(i, wl.wall[k], static_cast<std::uint32_t>(k), n, dist - p.radius[i],
+                      -p.radius[i] * n, Vec::Zero(), mu, wl.force[k]);
+  }
+}
+
+// Forces = impulses / h, written where DEM writes its forces, so outputs are shared.
+template <int D>
+void CdSolver<D>::store_impulses() {
+  using S = Space<D>;
+  auto& p = w_.particles;
+  auto& nl = w_.neighbors;
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    p.f[k].setZero();
+    p.t[k] = S::zero_rot();
+  }
+  for (auto& wall : w_.walls) wall.force.setZero();
+  diag_.touching = 0;
+  diag_.max_overlap_ratio = 0.0;
+  for (std::size_t a = 0; a < c_.size(); ++a) {
+    const Vec f = c_.frame[a] * c_.r[a] / w_.dt;
+    const std::uint32_t i = c_.i[a], j = c_.partner[a];
+    if (f.squaredNorm() > 0.0) ++diag_.touching;
+    p.f[i] += f;
+    p.t[i] += S::moment(c_.arm_i[a], f);
+    if (c_.wall[a]) {
+      nl.wall_pairs.force[c_.source[a]] = f;
+      w_.walls[j].force -= f;
+    } else {
+      nl.pairs.force[c_.source[a]] = f;
+      p.f[j] -= f;
+      p.t[j] -= S::moment(c_.arm_j[a], f);
+    }
+    const double r_min = c_.wall[a] ? p.radius[i] : std::min(p.radius[i], p.radius[j]);
+    diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, -c_.gap[a] / r_min);
+  }
+}
+
+template <int D>
+std::vector<std::string> CdSolver<D>::diagnostic_columns() const {
+  return {"nlgs_iterations", "nlgs_residual"};
+}
+
+template <int D>
+void CdSolver<D>::diagnostic_values(std::vector<double>& row) const {
+  row.push_back(static_cast<double>(result_.iterations));
+  row.push_back(result_.residual);
+}
+
+template class CdSolver<2>;
+template class CdSolver<3>;
+
+}  // namespace sable

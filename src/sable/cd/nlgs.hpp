@@ -1,0 +1,100 @@
+// Nonlinear Gauss-Seidel (NLGS) over contacts for frictional contact problems in local form:
+//
+//   find r_a in K_mu_a and U_a = sum_b W_ab r_b + q_a such that, for every contact a,
+//   r_a and U_a + mu_a |U_T,a| e_N satisfy Coulomb's law in De Saxce's form
+//   (r_a in K_mu, U~_a in K*_mu, r_a . U~_a = 0).
+//
+// Local vectors are ordered [N, T1] (2D) or [N, T1, T2] (3D), as in Siconos/FCLIB.
+// The same NLGS code serves a generic problem with explicit W blocks (`sable fc3d FILE.dat`)
+// and the contact-dynamics solver on grains (where U_a is computed from body velocities), so
+// the two are checked against each other: a Problem only has to provide the operations
+// documented on `NlgsProblem` below.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+#include "sable/core/rng.hpp"
+
+namespace sable::cd {
+
+template <int d>
+using LVec = Eigen::Matrix<double, d, 1>;
+template <int d>
+using LMat = Eigen::Matrix<double, d, d>;
+
+enum class LocalSolver : std::uint8_t {
+  kBipotential,  // De Saxce-Feng bi-potential prediction-correction (Dumont-Fortin-Ouafik eq. 15)
+  kExact,        // exact solution of the one-contact problem (enumeration / Newton)
+};
+enum class SweepOrder : std::uint8_t { kForward, kAlternating, kShuffled };
+enum class Criterion : std::uint8_t {
+  kQuad,     // LMGC90 'Quad': sqrt(sum |dU|^2 / sum |U|^2) over one sweep
+  kMaxm,     // LMGC90 'Maxm': max |dU| / mean |U|
+  kNatural,  // natural-map residual (Siconos' error), see natural_map_error()
+};
+
+struct NlgsSettings {
+  LocalSolver local = LocalSolver::kBipotential;
+  SweepOrder order = SweepOrder::kForward;
+  Criterion criterion = Criterion::kNatural;
+  double relaxation = 1.0;  // r_a <- (1 - w) r_a + w r_a_local
+  double tolerance = 1e-4;
+  int max_iterations = 1000;  // sweeps
+};
+
+struct NlgsResult {
+  int iterations = 0;     // sweeps done
+  double error = 0.0;     // the chosen criterion's value at the end
+  double residual = 0.0;  // natural-map residual at the end, whatever the criterion
+  bool converged = false;
+};
+
+// What NLGS needs from a problem (a concept, documented here, satisfied by MatrixProblem in
+// fc3d.hpp and by the grain problem in cd_solver.cpp):
+//
+//   std::size_t size() const;                      number of contacts
+//   const LMat<d>& W(std::size_t a) const;         Delassus diagonal block W_aa
+//   double mu(std::size_t a) const;                friction coefficient
+//   LVec<d>& r(std::size_t a);                     current impulse (local frame)
+//   LVec<d> velocity(std::size_t a) const;         U_a = sum_b W_ab r_b + q_a, current
+//   void apply(std::size_t a, const LVec<d>& dr);  r_a += dr, and update whatever U_b depend on
+//   double q_norm() const;                         ||q|| (for the natural-map normalisation)
+
+// Euclidean projection of x onto the Coulomb cone K_mu = { |x_T| <= mu x_N }.
+template <int d>
+LVec<d> project_cone(const LVec<d>& x, double mu);
+
+// The natural map of one contact: r - P_K(r - (U + mu |U_T| e_N)). Zero iff solved.
+template <int d>
+LVec<d> natural_map(const LVec<d>& r, const LVec<d>& U, double mu);
+
+// Solve the one-contact problem U = W r + q (W = W_aa, q = U_a - W_aa r_a, everything else
+// frozen) for r in K_mu. `r` holds the current value on entry (a starting guess).
+template <int d>
+LVec<d> solve_local(const LMat<d>& W, const LVec<d>& q, double mu, const LVec<d>& r,
+                    LocalSolver kind);
+
+// The nonlinear Gauss-Seidel loop. `rng` is used by SweepOrder::kShuffled only.
+template <int d, class Problem>
+NlgsResult solve_nlgs(Problem& problem, const NlgsSettings& s, Rng& rng);
+
+// Siconos' error: ||r - P_K(r - (U + mu|U_T| e_N))|| / max(||q||, ||r||, ||U||), all norms over
+// the whole problem (1 when all three are zero... no: 0 in that trivial case).
+template <int d, class Problem>
+double natural_map_error(Problem& problem);
+
+std::string_view to_string(LocalSolver);
+std::string_view to_string(SweepOrder);
+std::string_view to_string(Criterion);
+
+// Inverses of to_string ("bipotential", "forward", "natural", ...); nullopt if unknown.
+std::optional<LocalSolver> parse_local_solver(std::string_view);
+std::optional<SweepOrder> parse_sweep_order(std::string_view);
+std::optional<Criterion> parse_criterion(std::string_view);
+
+}  // namespace sable::cd
+
+#include "sable/cd/nlgs_impl.hpp"

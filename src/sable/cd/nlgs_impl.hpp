@@ -1,0 +1,141 @@
+// Implementation of nlgs.hpp. The per-contact pieces (project_cone, natural_map, solve_local)
+// depend on d only: they are defined in local_solvers.cpp and explicitly instantiated there for
+// d = 2, 3. The loops over a Problem (solve_nlgs, natural_map_error) are templates defined here.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <span>
+#include <vector>
+
+namespace sable::cd {
+
+extern template LVec<2> project_cone<2>(const LVec<2>&, double);
+extern template LVec<3> project_cone<3>(const LVec<3>&, double);
+extern template LVec<2> natural_map<2>(const LVec<2>&, const LVec<2>&, double);
+extern template LVec<3> natural_map<3>(const LVec<3>&, const LVec<3>&, double);
+extern template LVec<2> solve_local<2>(const LMat<2>&, const LVec<2>&, double, const LVec<2>&,
+                                       LocalSolver);
+extern template LVec<3> solve_local<3>(const LMat<3>&, const LVec<3>&, double, const LVec<3>&,
+                                       LocalSolver);
+
+// The contact order of sweep number `sweep` (0-based) into `order` (whose size is the number of
+// contacts): forward 0..n-1; alternating: forward on even sweeps, backward on odd ones; shuffled:
+// a fresh Fisher-Yates permutation of 0..n-1 drawn with rng.below().
+void fill_sweep_order(std::vector<std::size_t>& order, SweepOrder o, int sweep, Rng& rng);
+
+// What one sweep measured, for the Quad and Maxm criteria (see nlgs_sweep).
+struct SweepStats {
+  double du2 = 0.0;     // sum_a |U_a^k - U_a^{k-1}|^2
+  double u2 = 0.0;      // sum_a |U_a^k|^2
+  double du_max = 0.0;  // max_a |U_a^k - U_a^{k-1}|
+  double u_sum = 0.0;   // sum_a |U_a^k|
+};
+
+// One Gauss-Seidel sweep over the contacts in `order`. For each contact a:
+//   U = U_a (current), q = U - W_aa r_a, r_loc = solve_local(W_aa, q, mu_a, r_a),
+//   r_a <- r_a + w (r_loc - r_a)  (w = s.relaxation), through problem.apply().
+// If `last_u` is not empty (size n), U_a^k = U + W_aa dr_a, the velocity of a just after its
+// update in sweep k, is compared with last_u[a] (the same in sweep k-1; the initial velocity
+// before the first sweep), last_u[a] is replaced by U_a^k, and the sums of SweepStats are
+// accumulated. Allocates nothing.
+template <int d, class Problem>
+SweepStats nlgs_sweep(Problem& problem, std::span<const std::size_t> order, const NlgsSettings& s,
+                      std::span<LVec<d>> last_u) {
+  SweepStats st;
+  const bool track = !last_u.empty();
+  for (const std::size_t a : order) {
+    const LVec<d> U = problem.velocity(a);
+    const LMat<d>& W = problem.W(a);
+    const LVec<d> r_old = problem.r(a);
+    const LVec<d> q = U - W * r_old;
+    const LVec<d> r_loc = solve_local<d>(W, q, problem.mu(a), r_old, s.local);
+    const LVec<d> dr = s.relaxation * (r_loc - r_old);
+    problem.apply(a, dr);
+    if (track) {
+      const LVec<d> u_new = U + W * dr;
+      const double du = (u_new - last_u[a]).norm();
+      const double u = u_new.norm();
+      st.du2 += du * du;
+      st.u2 += u * u;
+      st.du_max = std::max(st.du_max, du);
+      st.u_sum += u;
+      last_u[a] = u_new;
+    }
+  }
+  return st;
+}
+
+namespace detail {
+
+// num / den with the conventions 0 / 0 = 0 and x / 0 = +inf (x > 0).
+inline double safe_ratio(double num, double den) {
+  if (num == 0.0) return 0.0;
+  return den > 0.0 ? num / den : std::numeric_limits<double>::infinity();
+}
+
+// The criterion of nlgs.hpp, from the stats of sweep k (n contacts, n > 0):
+//   Quad = sqrt( sum_a |U_a^k - U_a^{k-1}|^2 / sum_a |U_a^k|^2 )
+//   Maxm = max_a |U_a^k - U_a^{k-1}| / ( (1/n) sum_a |U_a^k| )
+// with U_a^k the local velocity of contact a right after its update in sweep k (U_a^0: before
+// the first sweep). A fully sticking solution has U = 0: there 0/0 counts as 0 (converged).
+inline double sweep_criterion(Criterion c, const SweepStats& st, std::size_t n) {
+  if (c == Criterion::kQuad) return std::sqrt(safe_ratio(st.du2, st.u2));
+  return safe_ratio(st.du_max, st.u_sum / static_cast<double>(n));
+}
+
+}  // namespace detail
+
+template <int d, class Problem>
+double natural_map_error(Problem& problem) {
+  double f2 = 0.0, r2 = 0.0, u2 = 0.0;
+  const std::size_t n = problem.size();
+  for (std::size_t a = 0; a < n; ++a) {
+    const LVec<d> U = problem.velocity(a);
+    const LVec<d> r = problem.r(a);
+    f2 += natural_map<d>(r, U, problem.mu(a)).squaredNorm();
+    r2 += r.squaredNorm();
+    u2 += U.squaredNorm();
+  }
+  const double den = std::max({problem.q_norm(), std::sqrt(r2), std::sqrt(u2)});
+  return detail::safe_ratio(std::sqrt(f2), den);
+}
+
+template <int d, class Problem>
+NlgsResult solve_nlgs(Problem& problem, const NlgsSettings& s, Rng& rng) {
+  NlgsResult res;
+  const std::size_t n = problem.size();
+  if (n == 0) {
+    res.converged = true;
+    return res;
+  }
+  std::vector<std::size_t> order(n);
+  std::vector<LVec<d>> last_u;
+  if (s.criterion != Criterion::kNatural) {
+    last_u.resize(n);
+    for (std::size_t a = 0; a < n; ++a) last_u[a] = problem.velocity(a);
+  }
+  bool error_is_residual = false;
+  for (int k = 0; k < s.max_iterations; ++k) {
+    fill_sweep_order(order, s.order, k, rng);
+    const SweepStats st = nlgs_sweep<d>(problem, order, s, std::span<LVec<d>>(last_u));
+    res.iterations = k + 1;
+    error_is_residual = s.criterion == Criterion::kNatural;
+    res.error = error_is_residual ? natural_map_error<d>(problem)
+                                  : detail::sweep_criterion(s.criterion, st, n);
+    if (res.error <= s.tolerance) {
+      res.converged = true;
+      break;
+    }
+  }
+  res.residual = error_is_residual ? res.error : natural_map_error<d>(problem);
+  if (res.iterations == 0) {  // max_iterations <= 0: report the state as it is
+    res.error = res.residual;
+    res.converged = res.residual <= s.tolerance;
+  }
+  return res;
+}
+
+}  // namespace sable::cd

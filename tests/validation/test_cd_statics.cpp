@@ -1,0 +1,187 @@
+// Contact dynamics (Moreau-Jean + NLGS) against rigid-body statics and dynamics solved by hand.
+// Rigid grains make these exact: the only errors are the NLGS tolerance (set tight here,
+// 1e-12 on the natural-map residual) and round-off, hence tolerances of 1e-6 or tighter.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "sable/cd/cd_solver.hpp"
+
+namespace {
+
+using sable::cd::LocalSolver;
+
+template <int D>
+sable::World<D> rigid_world(double mu, double dt) {
+  sable::World<D> w;
+  w.materials.add({"grain", 2500.0, 0.0, 0.0, 0.0, mu});
+  w.materials.finalize();
+  w.neighbors.skin = 0.2e-3;
+  w.neighbors.domain_lo.setConstant(-0.05);
+  w.neighbors.domain_hi.setConstant(0.05);
+  w.dt = dt;
+  return w;
+}
+
+template <int D>
+void add_plane(sable::World<D>& w, typename sable::Space<D>::Vec point,
+               typename sable::Space<D>::Vec normal) {
+  sable::Wall<D> wall;
+  wall.point = point;
+  wall.normal = normal.normalized();
+  w.walls.push_back(wall);
+}
+
+sable::CdSettings tight(LocalSolver local = LocalSolver::kBipotential) {
+  sable::CdSettings s;
+  s.nlgs.tolerance = 1e-12;
+  s.nlgs.max_iterations = 100000;
+  s.nlgs.local = local;
+  return s;
+}
+
+// Force carried by the candidate pair (i, j) (either order), along +n from j to i.
+template <int D>
+double pair_normal_force(const sable::World<D>& w, std::uint32_t a, std::uint32_t b) {
+  const auto& pl = w.neighbors.pairs;
+  for (std::size_t k = 0; k < pl.size(); ++k)
+    if ((pl.i[k] == a && pl.j[k] == b) || (pl.i[k] == b && pl.j[k] == a)) {
+      const auto n = (w.particles.x[pl.i[k]] - w.particles.x[pl.j[k]]).normalized();
+      return pl.force[k].dot(n);
+    }
+  return 0.0;
+}
+
+class ColumnTest : public ::testing::TestWithParam<LocalSolver> {};
+
+// A frictionless column of N touching disks between two side walls that touch them, on a
+// floor: the contact between the k-th and (k+1)-th disk from the top carries k m g, the floor
+// N m g, the side walls nothing (Dumont-Fortin-Ouafik's regular arrays, the simplest one).
+TEST_P(ColumnTest, FrictionlessColumnOfDisks) {
+  const int n = 10;
+  const double r = 1e-3, g = 9.81;
+  auto w = rigid_world<2>(0.0, 1e-4);
+  w.gravity = {0, -g};
+  for (int k = 0; k < n; ++k) w.particles.add({0.0, r + 2 * r * k}, r, 2500.0, 0, 1.0);
+  add_plane<2>(w, {0, 0}, {0, 1});   // floor
+  add_plane<2>(w, {-r, 0}, {1, 0});  // left wall, touching
+  add_plane<2>(w, {r, 0}, {-1, 0});  // right wall, touching
+  sable::CdSolver<2> s(w, tight(GetParam()));
+  s.initialize();
+  for (int step = 0; step < 5; ++step) s.step();
+  ASSERT_TRUE(s.last_solve().converged) << s.last_solve().residual;
+  const double mg = w.particles.mass[0] * g;
+  for (int k = 1; k < n; ++k) {
+    // Slot n - k is the k-th disk from the top; it rests on slot n - k - 1.
+    const double f = pair_normal_force(w, static_cast<std::uint32_t>(n - k),
+                                       static_cast<std::uint32_t>(n - k - 1));
+    EXPECT_NEAR(f, k * mg, 1e-6 * k * mg) << "contact " << k << " from the top";
+  }
+  EXPECT_NEAR(-w.walls[0].force.y(), n * mg, 1e-6 * n * mg);
+  EXPECT_NEAR(w.walls[1].force.norm(), 0.0, 1e-9 * mg);
+  EXPECT_NEAR(w.walls[2].force.norm(), 0.0, 1e-9 * mg);
+}
+
+INSTANTIATE_TEST_SUITE_P(LocalSolvers, ColumnTest,
+                         ::testing::Values(LocalSolver::kBipotential, LocalSolver::kExact));
+
+// Cannon ball in 2D: a disk on two disks held apart by walls, frictionless. Each upper
+// contact carries W / (2 cos 30), each wall W tan 30 / 2, and the lower disks (separated by
+// 1e-9 R, so the split of horizontal forces is unique) do not push each other.
+TEST(CdStatics, CannonBall2D) {
+  const double r = 1e-3, g = 9.81, eps = 1e-9 * r;
+  auto w = rigid_world<2>(0.0, 1e-4);
+  w.gravity = {0, -g};
+  const double half = r + 0.5 * eps;  // half the distance between the lower centres
+  w.particles.add({-half, r}, r, 2500.0, 0, 1.0);
+  w.particles.add({half, r}, r, 2500.0, 0, 1.0);
+  w.particles.add({0.0, r + std::sqrt(4 * r * r - half * half)}, r, 2500.0, 0, 1.0);
+  add_plane<2>(w, {0, 0}, {0, 1});
+  add_plane<2>(w, {-half - r, 0}, {1, 0});
+  add_plane<2>(w, {half + r, 0}, {-1, 0});
+  sable::CdSolver<2> s(w, tight());
+  s.initialize();
+  for (int step = 0; step < 5; ++step) s.step();
+  const double W = w.particles.mass[2] * g;
+  const double c30 = std::cos(std::numbers::pi / 6), t30 = std::tan(std::numbers::pi / 6);
+  EXPECT_NEAR(pair_normal_force(w, 2, 0), W / (2 * c30), 1e-6 * W);
+  EXPECT_NEAR(pair_normal_force(w, 2, 1), W / (2 * c30), 1e-6 * W);
+  EXPECT_NEAR(pair_normal_force(w, 0, 1), 0.0, 1e-9 * W);
+  EXPECT_NEAR(w.walls[1].force.norm(), W * t30 / 2, 1e-6 * W);
+  EXPECT_NEAR(w.walls[2].force.norm(), W * t30 / 2, 1e-6 * W);
+  EXPECT_NEAR(-w.walls[0].force.y(), 3 * w.particles.mass[0] * g, 1e-6 * W);
+}
+
+// A sphere resting on a plane: normal force m g, and no drift of its position over 10,000
+// steps (rigid contact, gap-based Signorini: it neither sinks nor jitters).
+TEST(CdStatics, SphereRestsOnPlaneWithoutDrift) {
+  const double r = 1e-3, g = 9.81;
+  auto w = rigid_world<3>(0.5, 1e-4);
+  w.gravity = {0, 0, -g};
+  w.particles.add({0.001, -0.002, r}, r, 2500.0, 0, 1.0);
+  add_plane<3>(w, {0, 0, 0}, {0, 0, 1});
+  sable::CdSolver<3> s(w, tight());
+  s.initialize();
+  const Eigen::Vector3d x0 = w.particles.x[0];
+  for (int step = 0; step < 10000; ++step) s.step();
+  EXPECT_NEAR(-w.walls[0].force.z(), w.particles.mass[0] * g, 1e-9 * w.particles.mass[0] * g);
+  EXPECT_LT((w.particles.x[0] - x0).norm(), 1e-12 * r);
+}
+
+// A sphere dropped from 5 mm onto a plane stops there: no bounce (Moreau's impact law with
+// zero restitution) and no penetration (the gap closes exactly within the step).
+TEST(CdStatics, PerfectlyInelasticImpact) {
+  const double r = 1e-3, g = 9.81;
+  auto w = rigid_world<3>(0.3, 1e-4);
+  w.gravity = {0, 0, -g};
+  w.particles.add({0, 0, r + 5e-3}, r, 2500.0, 0, 1.0);
+  add_plane<3>(w, {0, 0, 0}, {0, 0, 1});
+  sable::CdSolver<3> s(w, tight());
+  s.initialize();
+  double min_z = 1.0;
+  for (int step = 0; step < 1000; ++step) {
+    s.step();
+    min_z = std::min(min_z, w.particles.x[0].z());
+  }
+  EXPECT_GE(min_z, r * (1 - 1e-12));                // never below the plane
+  EXPECT_NEAR(w.particles.x[0].z(), r, 1e-12 * r);  // resting on it
+  EXPECT_LT(w.particles.v[0].norm(), 1e-12);        // at rest, no bounce
+}
+
+// Rolling and sliding on an incline, rigid-body theory: rolling without slip
+// a = g sin / (1 + I/(m R^2)) (2/3 g sin for a disk, 5/7 g sin for a sphere) when
+// mu >= tan / (1 + m R^2 / I); otherwise sliding with a = g (sin - mu cos). Rigid contact
+// makes the motion uniformly accelerated: the velocity after n steps is checked to 1e-6.
+template <int D>
+double incline_acceleration(double theta, double mu) {
+  const double r = 1e-3, g = 9.81;
+  auto w = rigid_world<D>(mu, 1e-4);
+  typename sable::Space<D>::Vec down = sable::Space<D>::Vec::Zero(), normal = down;
+  down[0] = std::sin(theta);
+  down[D - 1] = -std::cos(theta);
+  normal[D - 1] = 1.0;
+  w.gravity = g * down;  // the incline is the plane z = 0 (y = 0 in 2D), gravity tilted
+  typename sable::Space<D>::Vec x = sable::Space<D>::Vec::Zero();
+  x[D - 1] = r;
+  w.particles.add(x, r, 2500.0, 0, 1.0);
+  add_plane<D>(w, sable::Space<D>::Vec::Zero(), normal);
+  sable::CdSolver<D> s(w, tight());
+  s.initialize();
+  const int n = 2000;
+  for (int step = 0; step < n; ++step) s.step();
+  return w.particles.v[0][0] / (n * w.dt);
+}
+
+TEST(CdDynamics, DiskAndSphereOnIncline) {
+  const double g = 9.81, theta = 20.0 * std::numbers::pi / 180.0;
+  const double sn = std::sin(theta), cs = std::cos(theta);
+  // Rolling: mu = 0.5 is above tan/3 (disk) = 0.121 and 2 tan/7 (sphere) = 0.104.
+  EXPECT_NEAR(incline_acceleration<2>(theta, 0.5), 2.0 / 3.0 * g * sn, 1e-6 * g);
+  EXPECT_NEAR(incline_acceleration<3>(theta, 0.5), 5.0 / 7.0 * g * sn, 1e-6 * g);
+  // Sliding: mu = 0.05 is below both thresholds.
+  EXPECT_NEAR(incline_acceleration<2>(theta, 0.05), g * (sn - 0.05 * cs), 1e-6 * g);
+  EXPECT_NEAR(incline_acceleration<3>(theta, 0.05), g * (sn - 0.05 * cs), 1e-6 * g);
+}
+
+}  // namespace
