@@ -18,18 +18,17 @@ rm -rf "$work/cd"
 ./build/release/bin/sable run "$work/pour_cd.toml" --out "$work/cd" --resume "$snap" \
   2> "$work/cd.log"
 grep -E "^stage 'cd' done|^done:|warning" "$work/cd.log" || true
-info=$(./build/release/bin/sable info "$work/cd/snapshots/end_of_stage_2.h5")
-contacts=$(echo "$info" | sed -n 's/.*pair lists *\([0-9]*\) grain-grain, \([0-9]*\) grain-wall.*/\1 \2/p')
-/usr/bin/python3 - "$work/cd/series.csv" "$work/cd.log" $contacts <<'PY'
+/usr/bin/python3 - "$work/cd/series.csv" "$work/cd.log" <<'PY'
 import csv, re, sys
 rows = list(csv.DictReader(open(sys.argv[1])))[1:]  # drop the resume row
 log = open(sys.argv[2]).read()
 m = re.search(r"stage 'cd' done: (\d+) steps in ([\d.]+) s.*NLGS solve (\d+)%", log)
 steps, secs, solve_pct = int(m.group(1)), float(m.group(2)), float(m.group(3))
 sweeps = [float(r["nlgs_iterations"]) for r in rows]
-contacts = int(sys.argv[3]) + int(sys.argv[4])
-ns = secs * solve_pct / 100 / (sum(sweeps) * contacts) * 1e9
-print(f"steps {steps}, candidate contacts {contacts}, sweeps/step mean {sum(sweeps)/len(sweeps):.1f} "
+work = sum(float(r["nlgs_iterations"]) * float(r["nlgs_contacts"]) for r in rows)
+contacts = sum(float(r["nlgs_contacts"]) for r in rows) / len(rows)
+ns = secs * solve_pct / 100 / work * 1e9
+print(f"steps {steps}, contacts in the problem {contacts:.0f} (mean), sweeps/step mean {sum(sweeps)/len(sweeps):.1f} "
       f"(min {min(sweeps):.0f}, max {max(sweeps):.0f}), NLGS {secs*solve_pct/100:.2f} s, "
       f"{ns:.1f} ns per contact per sweep, final residual {float(rows[-1]['nlgs_residual']):.2e}")
 PY

@@ -1,4 +1,4 @@
-// The `sable` command line: run, check, info, models.
+// The `sable` command line: run, check, info, models, fc3d.
 //
 // Exit codes: 0 success, 1 the simulation failed (NaN, runaway grain; a snapshot is written),
 // 2 bad input (scenario, snapshot, command line), with a message naming the place.
