@@ -60,6 +60,15 @@ class NeighborList {
   std::vector<Vec> wall_ref;  // wall points at the last build
   std::uint64_t builds = 0;
 
+  // Incidence of the sorted lists, derived from them (never saved): grain i is the first
+  // member of pairs [first_begin[i], first_begin[i+1]), the second member of pairs
+  // second_pairs[second_begin[i] .. second_begin[i+1]) (ascending), and the grain of wall
+  // pairs [wall_begin[i], wall_begin[i+1]). Solvers sum each grain's forces in this fixed
+  // order, which makes results independent of the number of threads.
+  std::vector<std::uint32_t> first_begin, second_begin, second_pairs, wall_begin;
+  // Recompute the incidence if the lists changed since it was last made.
+  void update_incidence(std::size_t n_grains);
+
   // True when some pair not in the lists might now be touching, or (with margin > 0) might
   // touch after every grain moves `margin` further: contact dynamics asks for the contacts
   // that can close during the coming step.
@@ -73,6 +82,7 @@ class NeighborList {
   void build_wall_pairs(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls,
                         WallPairList<D>& out) const;
 
+  bool incidence_valid_ = false;
   // Scratch reused between builds so a rebuild does not allocate once sizes have settled.
   std::array<int, D> ncell_{};
   double cell_size_ = 0.0;

@@ -7,6 +7,10 @@
 
 namespace sable {
 
+// Below this many grains or contacts a loop runs on one thread: waking a thread team costs
+// more than the work. The result is the same bits either way.
+constexpr std::ptrdiff_t kMinParallelItems = 2048;
+
 template <int D>
 void DemSolver<D>::initialize() {
   w_.neighbors.build(w_.particles, w_.walls);
@@ -44,7 +48,10 @@ template <int D>
 void DemSolver<D>::kick(double h) {
   auto& p = w_.particles;
   const auto g = w_.gravity;
-  for (std::size_t k = 0; k < p.size(); ++k) {
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+  for (std::ptrdiff_t kk = 0; kk < n; ++kk) {
+    const auto k = static_cast<std::size_t>(kk);
     if (p.inv_mass[k] == 0.0) continue;
     p.v[k] += h * (p.f[k] * p.inv_mass[k] + g);
     p.w[k] += h * p.inv_inertia[k] * p.t[k];
@@ -54,20 +61,30 @@ void DemSolver<D>::kick(double h) {
 template <int D>
 void DemSolver<D>::drift(double h) {
   auto& p = w_.particles;
-  for (std::size_t k = 0; k < p.size(); ++k) {
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+  for (std::ptrdiff_t kk = 0; kk < n; ++kk) {
+    const auto k = static_cast<std::size_t>(kk);
     if (p.inv_mass[k] == 0.0) continue;
     p.x[k] += h * p.v[k];
     p.q[k] = Space<D>::rotate(p.q[k], p.w[k], h);
   }
 }
 
+// Forces in two passes, so that the result does not depend on the number of threads:
+//   1. per contact (in parallel): the force on its first grain, written into the contact's
+//      own slot together with n x F and the overlap (for the torques);
+//   2. per grain (in parallel): the sum of its contacts' forces and torques, always in the
+//      same order (first-member pairs, second-member pairs, wall pairs, by ascending index).
+// No atomics, no per-thread force copies, and no race: each pass writes only its own items.
 template <int D>
 void DemSolver<D>::compute_forces() {
-  auto& p = w_.particles;
-  for (std::size_t k = 0; k < p.size(); ++k) {
-    p.f[k].setZero();
-    p.t[k] = Space<D>::zero_rot();
-  }
+  auto& nl = w_.neighbors;
+  nl.update_incidence(w_.particles.size());
+  pair_moment_.resize(nl.pairs.size());
+  pair_delta_.resize(nl.pairs.size());
+  wall_moment_.resize(nl.wall_pairs.size());
+  wall_delta_.resize(nl.wall_pairs.size());
   diag_ = StepDiagnostics{};
   {
     auto scope = timers_.time(Phase::kForces);
@@ -82,6 +99,7 @@ void DemSolver<D>::compute_forces() {
       wall_forces<HertzNormal>();
     else
       wall_forces<LinearNormal>();
+    accumulate();
   }
 }
 
@@ -89,10 +107,16 @@ template <int D>
 template <class Normal>
 void DemSolver<D>::pair_forces() {
   using S = Space<D>;
-  auto& p = w_.particles;
+  const auto& p = w_.particles;
   auto& pl = w_.neighbors.pairs;
   const double dt = w_.dt;
-  for (std::size_t k = 0; k < pl.size(); ++k) {
+  const auto n_pairs = static_cast<std::ptrdiff_t>(pl.size());
+  double max_ratio = 0.0;
+  std::size_t touching = 0;
+#pragma omp parallel for schedule(static) reduction(max : max_ratio) reduction(+ : touching) \
+    if (n_pairs >= kMinParallelItems)
+  for (std::ptrdiff_t kk = 0; kk < n_pairs; ++kk) {
+    const auto k = static_cast<std::size_t>(kk);
     const std::uint32_t i = pl.i[k], j = pl.j[k];
     const typename S::Vec d = p.x[i] - p.x[j];
     const double rsum = p.radius[i] + p.radius[j];
@@ -101,6 +125,8 @@ void DemSolver<D>::pair_forces() {
       // Apart: the contact (if any) has ended and forgets its history.
       pl.shear[k].setZero();
       pl.force[k].setZero();
+      pair_moment_[k] = S::zero_rot();
+      pair_delta_[k] = 0.0;
       continue;
     }
     const double dist = std::sqrt(dist2);
@@ -116,33 +142,39 @@ void DemSolver<D>::pair_forces() {
     const PairParams& pp = w_.materials.pair(p.material[i], p.material[j]);
     const typename S::Vec f = contact_force<D, Normal>(g, pp, w_.model, dt, pl.shear[k]);
     pl.force[k] = f;
-    p.f[i] += f;
-    p.f[j] -= f;
-    p.t[i] += S::moment(arm_i, f);
-    p.t[j] += S::moment(arm_j, -f);
-    diag_.max_overlap_ratio =
-        std::max(diag_.max_overlap_ratio, g.delta / std::min(p.radius[i], p.radius[j]));
-    ++diag_.touching;
+    pair_moment_[k] = S::moment(g.n, f);
+    pair_delta_[k] = g.delta;
+    max_ratio = std::max(max_ratio, g.delta / std::min(p.radius[i], p.radius[j]));
+    ++touching;
   }
+  diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
+  diag_.touching += touching;
 }
 
 template <int D>
 template <class Normal>
 void DemSolver<D>::wall_forces() {
   using S = Space<D>;
-  auto& p = w_.particles;
+  const auto& p = w_.particles;
   auto& wl = w_.neighbors.wall_pairs;
-  for (auto& wall : w_.walls) wall.force.setZero();
   const double dt = w_.dt;
-  for (std::size_t k = 0; k < wl.size(); ++k) {
+  const auto n_pairs = static_cast<std::ptrdiff_t>(wl.size());
+  double max_ratio = 0.0;
+  std::size_t touching = 0;
+#pragma omp parallel for schedule(static) reduction(max : max_ratio) reduction(+ : touching) \
+    if (n_pairs >= kMinParallelItems)
+  for (std::ptrdiff_t kk = 0; kk < n_pairs; ++kk) {
+    const auto k = static_cast<std::size_t>(kk);
     const std::uint32_t i = wl.i[k];
-    Wall<D>& wall = w_.walls[wl.wall[k]];
+    const Wall<D>& wall = w_.walls[wl.wall[k]];
     ContactGeometry<D> g;
     const double dist = wall.distance(p.x[i], g.n);
     g.delta = p.radius[i] - dist;
     if (g.delta <= 0.0) {
       wl.shear[k].setZero();
       wl.force[k].setZero();
+      wall_moment_[k] = S::zero_rot();
+      wall_delta_[k] = 0.0;
       continue;
     }
     const typename S::Vec arm_i = -(p.radius[i] - 0.5 * g.delta) * g.n;
@@ -152,12 +184,49 @@ void DemSolver<D>::wall_forces() {
     const PairParams& pp = w_.materials.pair(p.material[i], wall.material);
     const typename S::Vec f = contact_force<D, Normal>(g, pp, w_.model, dt, wl.shear[k]);
     wl.force[k] = f;
-    p.f[i] += f;
-    p.t[i] += S::moment(arm_i, f);
-    wall.force -= f;
-    diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, g.delta / p.radius[i]);
-    ++diag_.touching;
+    wall_moment_[k] = S::moment(g.n, f);
+    wall_delta_[k] = g.delta;
+    max_ratio = std::max(max_ratio, g.delta / p.radius[i]);
+    ++touching;
   }
+  diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
+  diag_.touching += touching;
+}
+
+// Pass 2. The torque of force F at lever arm -(R - delta/2) n is -(R - delta/2) (n x F) for
+// the first grain; the second grain gets -F at +(R - delta/2) n: the same sign, its own R.
+template <int D>
+void DemSolver<D>::accumulate() {
+  using S = Space<D>;
+  auto& p = w_.particles;
+  const auto& nl = w_.neighbors;
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+  for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    typename S::Vec f = S::zero();
+    typename S::Rot t = S::zero_rot();
+    const double r = p.radius[i];
+    for (std::uint32_t k = nl.first_begin[i]; k < nl.first_begin[i + 1]; ++k) {
+      f += nl.pairs.force[k];
+      t -= (r - 0.5 * pair_delta_[k]) * pair_moment_[k];
+    }
+    for (std::uint32_t s = nl.second_begin[i]; s < nl.second_begin[i + 1]; ++s) {
+      const std::uint32_t k = nl.second_pairs[s];
+      f -= nl.pairs.force[k];
+      t -= (r - 0.5 * pair_delta_[k]) * pair_moment_[k];
+    }
+    for (std::uint32_t k = nl.wall_begin[i]; k < nl.wall_begin[i + 1]; ++k) {
+      f += nl.wall_pairs.force[k];
+      t -= (r - 0.5 * wall_delta_[k]) * wall_moment_[k];
+    }
+    p.f[i] = f;
+    p.t[i] = t;
+  }
+  // Walls: a short sequential sum in list order (deterministic).
+  for (auto& wall : w_.walls) wall.force.setZero();
+  for (std::size_t k = 0; k < nl.wall_pairs.size(); ++k)
+    w_.walls[nl.wall_pairs.wall[k]].force -= nl.wall_pairs.force[k];
 }
 
 template class DemSolver<2>;

@@ -26,10 +26,14 @@ class DemSolver final : public Solver {
   void pair_forces();
   template <class Normal>
   void wall_forces();
+  void accumulate();
 
   World<D>& w_;
   StepDiagnostics diag_;
   PhaseTimers timers_;
+  // Per-contact scratch of the force pass (n x F and overlap), read by the accumulation pass.
+  std::vector<typename Space<D>::Rot> pair_moment_, wall_moment_;
+  std::vector<double> pair_delta_, wall_delta_;
 };
 
 }  // namespace sable

@@ -296,6 +296,23 @@ void check_pairs(const h5::File& f, const NeighborList<D>& nl, std::size_t n, st
                       "(the number of grains)",
                       k, nl.pairs.i[k], nl.pairs.j[k], n));
     }
+    // Solvers rely on the lists being sorted (contiguous ranges per grain).
+    if (k > 0 && std::pair(nl.pairs.i[k - 1], nl.pairs.j[k - 1]) >=
+                     std::pair(nl.pairs.i[k], nl.pairs.j[k])) {
+      f.fail(
+          fmt::format("'/neighbors/pairs' row {} is out of order; expected rows sorted by "
+                      "(i, j) without repeats",
+                      k));
+    }
+  }
+  for (std::size_t k = 1; k < nl.wall_pairs.size(); ++k) {
+    if (std::pair(nl.wall_pairs.i[k - 1], nl.wall_pairs.wall[k - 1]) >=
+        std::pair(nl.wall_pairs.i[k], nl.wall_pairs.wall[k])) {
+      f.fail(
+          fmt::format("'/neighbors/wall_pairs' row {} is out of order; expected rows sorted "
+                      "by (grain, wall) without repeats",
+                      k));
+    }
   }
   for (std::size_t k = 0; k < nl.wall_pairs.size(); ++k) {
     if (nl.wall_pairs.i[k] >= n || nl.wall_pairs.wall[k] >= walls) {
