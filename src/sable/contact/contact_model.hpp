@@ -59,11 +59,11 @@ struct HertzNormal {
   static NormalCoeffs coeffs(const PairParams& p, const ContactModel&, double delta, double r_eff,
                              double m_eff) {
     const double sqrt_rd = std::sqrt(r_eff * delta);
-    const double sn = 2.0 * p.y_star * sqrt_rd;
-    const double st = 8.0 * p.g_star * sqrt_rd;
     constexpr double c = 1.8257418583505538;  // 2 sqrt(5/6)
-    return {4.0 / 3.0 * p.y_star * sqrt_rd, -c * p.beta * std::sqrt(sn * m_eff), st,
-            -c * p.beta * std::sqrt(st * m_eff)};
+    // gamma_n = -c beta sqrt(S_n m*) with S_n = 2 Y* sqrt(R* delta); gamma_t is the same with
+    // S_t = 8 G* sqrt(R* delta), i.e. gamma_n sqrt(S_t / S_n): one square root for both.
+    const double gn = -c * p.beta * std::sqrt(2.0 * p.y_star * sqrt_rd * m_eff);
+    return {4.0 / 3.0 * p.y_star * sqrt_rd, gn, 8.0 * p.g_star * sqrt_rd, gn * p.st_over_sn_sqrt};
   }
 };
 
@@ -110,11 +110,11 @@ inline typename Space<D>::Vec contact_force(const ContactGeometry<D>& g, const P
     if (s2_new > 0.0) shear *= std::sqrt(s2 / s2_new);
   }
   shear += vt * dt;
-  const double f_spring = c.kt * shear.norm();
   const double f_max = p.friction * std::abs(fn);
-  if (f_spring > f_max) {
+  const double f_spring2 = c.kt * c.kt * shear.squaredNorm();
+  if (f_spring2 > f_max * f_max) {
     // Sliding: the spring is held at the Coulomb limit; no tangential damping.
-    shear *= f_max / f_spring;
+    shear *= f_max / std::sqrt(f_spring2);
     force -= c.kt * shear;
   } else {
     force -= c.kt * shear + c.gt * vt;

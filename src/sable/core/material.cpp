@@ -63,6 +63,8 @@ void MaterialTable::finalize() {
       if (o.young_star) p.y_star = *o.young_star;
     }
   }
+  for (PairParams& p : pairs_)
+    p.st_over_sn_sqrt = p.y_star > 0.0 ? std::sqrt(4.0 * p.g_star / p.y_star) : 0.0;
 }
 
 }  // namespace sable

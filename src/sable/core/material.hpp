@@ -40,6 +40,7 @@ struct PairParams {
   double beta = 0.0;    // ln e / sqrt(ln^2 e + pi^2); 0 for e = 1
   double restitution = 1.0;
   double friction = 0.0;
+  double st_over_sn_sqrt = 0.0;  // sqrt(4 G* / Y*): Hertz gamma_t / gamma_n, precomputed
 };
 
 class MaterialTable {
