@@ -1,5 +1,6 @@
 #include "sable/collision/neighbor_list.hpp"
 
+#include <omp.h>
 #include <algorithm>
 #include <cmath>
 
@@ -60,45 +61,68 @@ void NeighborList<D>::build_cells(const ParticleStore<D>& p) {
     cell_items_[scratch_[cell_of_[k]]++] = static_cast<std::uint32_t>(k);
 }
 
+// The partners j > i of grain i within reach, ascending, appended to `out`.
+template <int D>
+void NeighborList<D>::partners_of(const ParticleStore<D>& p, std::size_t i,
+                                  std::vector<std::uint32_t>& out) const {
+  const std::size_t first = out.size();
+  std::array<int, D> ci;
+  std::size_t c = cell_of_[i];
+  for (int d = 0; d < D; ++d) {
+    ci[d] = static_cast<int>(c % static_cast<std::size_t>(ncell_[d]));
+    c /= static_cast<std::size_t>(ncell_[d]);
+  }
+  const int nstencil = D == 3 ? 27 : 9;
+  for (int s = 0; s < nstencil; ++s) {
+    std::size_t cell = 0;
+    bool inside = true;
+    int code = s;
+    for (int d = D - 1; d >= 0; --d) {
+      const int pow3 = d == 2 ? 9 : (d == 1 ? 3 : 1);
+      const int nb = ci[d] + (code / pow3) - 1;
+      code %= pow3;
+      if (nb < 0 || nb >= ncell_[d]) inside = false;
+      cell = cell * static_cast<std::size_t>(ncell_[d]) + static_cast<std::size_t>(std::max(nb, 0));
+    }
+    if (!inside) continue;
+    for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
+      const std::uint32_t j = cell_items_[k];
+      if (j <= i) continue;
+      if ((p.inv_mass[i] == 0.0) && (p.inv_mass[j] == 0.0)) continue;  // two fixed grains
+      const double reach = p.radius[i] + p.radius[j] + skin;
+      if ((p.x[i] - p.x[j]).squaredNorm() < reach * reach) out.push_back(j);
+    }
+  }
+  std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
+}
+
+// In parallel: each thread collects the pairs of a contiguous, ascending block of grains
+// (static schedule), and the blocks are joined in order, so the list is the same sorted list
+// whatever the number of threads.
 template <int D>
 void NeighborList<D>::build_pairs(const ParticleStore<D>& p, PairList<D>& out) {
   out.clear();
-  std::vector<std::uint32_t>& partners = scratch_;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    partners.clear();
-    std::array<int, D> ci;
-    std::size_t c = cell_of_[i];
-    for (int d = 0; d < D; ++d) {
-      ci[d] = static_cast<int>(c % static_cast<std::size_t>(ncell_[d]));
-      c /= static_cast<std::size_t>(ncell_[d]);
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+  const bool parallel = n >= 4096;
+  const int threads = parallel ? omp_get_max_threads() : 1;
+  thread_i_.resize(static_cast<std::size_t>(threads));
+  thread_j_.resize(static_cast<std::size_t>(threads));
+#pragma omp parallel num_threads(threads) if (parallel)
+  {
+    const auto t = static_cast<std::size_t>(omp_get_thread_num());
+    std::vector<std::uint32_t>& bi = thread_i_[t];
+    std::vector<std::uint32_t>& bj = thread_j_[t];
+    bi.clear();
+    bj.clear();
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
+      partners_of(p, static_cast<std::size_t>(ii), bj);
+      bi.resize(bj.size(), static_cast<std::uint32_t>(ii));
     }
-    const int nstencil = D == 3 ? 27 : 9;
-    for (int s = 0; s < nstencil; ++s) {
-      std::size_t cell = 0;
-      bool inside = true;
-      int code = s;
-      for (int d = D - 1; d >= 0; --d) {
-        const int pow3 = d == 2 ? 9 : (d == 1 ? 3 : 1);
-        const int nb = ci[d] + (code / pow3) - 1;
-        code %= pow3;
-        if (nb < 0 || nb >= ncell_[d]) inside = false;
-        cell =
-            cell * static_cast<std::size_t>(ncell_[d]) + static_cast<std::size_t>(std::max(nb, 0));
-      }
-      if (!inside) continue;
-      for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
-        const std::uint32_t j = cell_items_[k];
-        if (j <= i) continue;
-        if ((p.inv_mass[i] == 0.0) && (p.inv_mass[j] == 0.0)) continue;  // two fixed grains
-        const double reach = p.radius[i] + p.radius[j] + skin;
-        if ((p.x[i] - p.x[j]).squaredNorm() < reach * reach) partners.push_back(j);
-      }
-    }
-    std::sort(partners.begin(), partners.end());
-    for (std::uint32_t j : partners) {
-      out.i.push_back(static_cast<std::uint32_t>(i));
-      out.j.push_back(j);
-    }
+  }
+  for (std::size_t t = 0; t < thread_i_.size(); ++t) {
+    out.i.insert(out.i.end(), thread_i_[t].begin(), thread_i_[t].end());
+    out.j.insert(out.j.end(), thread_j_[t].begin(), thread_j_[t].end());
   }
   out.shear.assign(out.size(), Vec::Zero());
   out.force.assign(out.size(), Vec::Zero());

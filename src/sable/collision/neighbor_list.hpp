@@ -79,6 +79,7 @@ class NeighborList {
  private:
   void build_cells(const ParticleStore<D>& p);
   void build_pairs(const ParticleStore<D>& p, PairList<D>& out);
+  void partners_of(const ParticleStore<D>& p, std::size_t i, std::vector<std::uint32_t>& out) const;
   void build_wall_pairs(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls,
                         WallPairList<D>& out) const;
 
@@ -87,6 +88,7 @@ class NeighborList {
   std::array<int, D> ncell_{};
   double cell_size_ = 0.0;
   std::vector<std::uint32_t> cell_of_, cell_start_, cell_items_, scratch_;
+  std::vector<std::vector<std::uint32_t>> thread_i_, thread_j_;  // per-thread pair blocks
   PairList<D> new_pairs_;
   WallPairList<D> new_wall_pairs_;
 };

@@ -88,9 +88,11 @@ struct ContactGeometry {
 // The force on grain i. `shear` is the contact's tangential history (a displacement); it is
 // turned into the current tangent plane, advanced by vt*dt and Coulomb-capped.
 template <int D, class Normal>
-inline typename Space<D>::Vec contact_force(const ContactGeometry<D>& g, const PairParams& p,
-                                            const ContactModel& model, double dt,
-                                            typename Space<D>::Vec& shear) {
+[[gnu::always_inline]] inline typename Space<D>::Vec contact_force(const ContactGeometry<D>& g,
+                                                                   const PairParams& p,
+                                                                   const ContactModel& model,
+                                                                   double dt,
+                                                                   typename Space<D>::Vec& shear) {
   using Vec = typename Space<D>::Vec;
   const NormalCoeffs c = Normal::coeffs(p, model, g.delta, g.r_eff, g.m_eff);
   const double vn = g.vrel.dot(g.n);

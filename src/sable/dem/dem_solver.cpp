@@ -81,10 +81,17 @@ template <int D>
 void DemSolver<D>::compute_forces() {
   auto& nl = w_.neighbors;
   nl.update_incidence(w_.particles.size());
-  pair_moment_.resize(nl.pairs.size());
-  pair_delta_.resize(nl.pairs.size());
-  wall_moment_.resize(nl.wall_pairs.size());
-  wall_delta_.resize(nl.wall_pairs.size());
+  if (scratch_build_ != nl.builds || pair_delta_.size() != nl.pairs.size() ||
+      wall_delta_.size() != nl.wall_pairs.size()) {
+    // The lists were rebuilt (or come from a snapshot): the scratch is indexed by list entry,
+    // so it starts again from "apart" (-1 marks entries whose stored force must be cleared
+    // if they are apart, since they may carry a force from before the rebuild).
+    pair_moment_.assign(nl.pairs.size(), Space<D>::zero_rot());
+    pair_delta_.assign(nl.pairs.size(), -1.0);
+    wall_moment_.assign(nl.wall_pairs.size(), Space<D>::zero_rot());
+    wall_delta_.assign(nl.wall_pairs.size(), -1.0);
+    scratch_build_ = nl.builds;
+  }
   diag_ = StepDiagnostics{};
   {
     auto scope = timers_.time(Phase::kForces);
@@ -122,11 +129,14 @@ void DemSolver<D>::pair_forces() {
     const double rsum = p.radius[i] + p.radius[j];
     const double dist2 = d.squaredNorm();
     if (dist2 >= rsum * rsum) {
-      // Apart: the contact (if any) has ended and forgets its history.
-      pl.shear[k].setZero();
-      pl.force[k].setZero();
-      pair_moment_[k] = S::zero_rot();
-      pair_delta_[k] = 0.0;
+      // Apart. A contact that has just ended forgets its history; pairs that were already
+      // apart hold zeros and are not written again (most candidates: this saves bandwidth).
+      if (pair_delta_[k] != 0.0) {
+        pl.shear[k].setZero();
+        pl.force[k].setZero();
+        pair_moment_[k] = S::zero_rot();
+        pair_delta_[k] = 0.0;
+      }
       continue;
     }
     const double dist = std::sqrt(dist2);
@@ -171,10 +181,12 @@ void DemSolver<D>::wall_forces() {
     const double dist = wall.distance(p.x[i], g.n);
     g.delta = p.radius[i] - dist;
     if (g.delta <= 0.0) {
-      wl.shear[k].setZero();
-      wl.force[k].setZero();
-      wall_moment_[k] = S::zero_rot();
-      wall_delta_[k] = 0.0;
+      if (wall_delta_[k] != 0.0) {
+        wl.shear[k].setZero();
+        wl.force[k].setZero();
+        wall_moment_[k] = S::zero_rot();
+        wall_delta_[k] = 0.0;
+      }
       continue;
     }
     const typename S::Vec arm_i = -(p.radius[i] - 0.5 * g.delta) * g.n;

@@ -33,7 +33,8 @@ class DemSolver final : public Solver {
   PhaseTimers timers_;
   // Per-contact scratch of the force pass (n x F and overlap), read by the accumulation pass.
   std::vector<typename Space<D>::Rot> pair_moment_, wall_moment_;
-  std::vector<double> pair_delta_, wall_delta_;
+  std::vector<double> pair_delta_, wall_delta_;  // 0 apart, > 0 overlap, -1 unknown
+  std::uint64_t scratch_build_ = ~std::uint64_t{0};
 };
 
 }  // namespace sable
