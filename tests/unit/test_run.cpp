@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "run_helpers.hpp"
 #include "sable/io/snapshot.hpp"
 #include "sable/scenario/config.hpp"
 #include "sable/scenario/runner.hpp"
@@ -47,14 +48,7 @@ std::string scenario(int dim, std::uint64_t seed, const std::string& out) {
 }
 
 sable::RunResult run(const std::string& text, const std::string& resume = "", bool outputs = true) {
-  const sable::ScenarioConfig cfg = sable::parse_scenario(text, "test.toml");
-  sable::RunOptions opt;
-  std::ostringstream log;
-  opt.log = &log;
-  opt.live_progress = false;
-  opt.resume = resume;
-  opt.write_outputs = outputs;
-  return sable::run_scenario(cfg, opt);
+  return sable::test::run_text(text, {resume, outputs, 0});
 }
 
 fs::path temp_dir(const std::string& name) {
@@ -120,16 +114,9 @@ TEST_P(RunDim, BitIdenticalForOneAndTwoThreads) {
   text.replace(text.find(random_block), random_block.size(), lattice.str());
   for (std::size_t at; (at = text.find("steps = 300")) != std::string::npos;)
     text.replace(at, 11, "steps = 60");  // 120 steps: enough for contacts and a rebuild
-  const sable::ScenarioConfig cfg = sable::parse_scenario(text, "t.toml");
   std::uint64_t hashes[2];
   for (int threads : {1, 2}) {
-    sable::RunOptions opt;
-    std::ostringstream log;
-    opt.log = &log;
-    opt.live_progress = false;
-    opt.write_outputs = false;
-    opt.threads = threads;
-    const auto r = sable::run_scenario(cfg, opt);
+    const auto r = sable::test::run_text(text, {"", false, threads});
     EXPECT_GE(r.grains, 2400u);
     hashes[threads - 1] = r.state_hash;
   }

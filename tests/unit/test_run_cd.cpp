@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "run_helpers.hpp"
 #include "sable/scenario/config.hpp"
 #include "sable/scenario/runner.hpp"
 
@@ -37,14 +38,7 @@ std::string cd_scenario(int dim, std::uint64_t seed, const std::string& out) {
 }
 
 sable::RunResult run(const std::string& text, const std::string& resume, bool outputs) {
-  const auto cfg = sable::parse_scenario(text, "cd.toml");
-  sable::RunOptions opt;
-  std::ostringstream log;
-  opt.log = &log;
-  opt.live_progress = false;
-  opt.resume = resume;
-  opt.write_outputs = outputs;
-  return sable::run_scenario(cfg, opt);
+  return sable::test::run_text(text, {resume, outputs, 0});
 }
 
 class CdRun : public ::testing::TestWithParam<int> {};

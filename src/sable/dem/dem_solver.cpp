@@ -11,6 +11,22 @@ namespace sable {
 // more than the work. The result is the same bits either way.
 constexpr std::ptrdiff_t kMinParallelItems = 2048;
 
+namespace {
+
+// Entry k is apart. A contact that has just ended forgets its history; entries already apart
+// hold zeros and are not written again (most candidates are apart: this saves bandwidth).
+template <class List, class Rot>
+void forget_if_ended(List& list, std::vector<Rot>& moment, std::vector<double>& delta,
+                     std::size_t k, const Rot& zero) {
+  if (delta[k] == 0.0) return;
+  list.shear[k].setZero();
+  list.force[k].setZero();
+  moment[k] = zero;
+  delta[k] = 0.0;
+}
+
+}  // namespace
+
 template <int D>
 void DemSolver<D>::initialize() {
   w_.neighbors.build(w_.particles, w_.walls);
@@ -129,14 +145,7 @@ void DemSolver<D>::pair_forces() {
     const double rsum = p.radius[i] + p.radius[j];
     const double dist2 = d.squaredNorm();
     if (dist2 >= rsum * rsum) {
-      // Apart. A contact that has just ended forgets its history; pairs that were already
-      // apart hold zeros and are not written again (most candidates: this saves bandwidth).
-      if (pair_delta_[k] != 0.0) {
-        pl.shear[k].setZero();
-        pl.force[k].setZero();
-        pair_moment_[k] = S::zero_rot();
-        pair_delta_[k] = 0.0;
-      }
+      forget_if_ended(pl, pair_moment_, pair_delta_, k, S::zero_rot());
       continue;
     }
     const double dist = std::sqrt(dist2);
@@ -181,12 +190,7 @@ void DemSolver<D>::wall_forces() {
     const double dist = wall.distance(p.x[i], g.n);
     g.delta = p.radius[i] - dist;
     if (g.delta <= 0.0) {
-      if (wall_delta_[k] != 0.0) {
-        wl.shear[k].setZero();
-        wl.force[k].setZero();
-        wall_moment_[k] = S::zero_rot();
-        wall_delta_[k] = 0.0;
-      }
+      forget_if_ended(wl, wall_moment_, wall_delta_, k, S::zero_rot());
       continue;
     }
     const typename S::Vec arm_i = -(p.radius[i] - 0.5 * g.delta) * g.n;
