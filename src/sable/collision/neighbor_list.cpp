@@ -10,9 +10,13 @@ template <int D>
 bool NeighborList<D>::needs_rebuild(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls,
                                     double margin) const {
   if (x_ref.size() != p.size() || wall_ref.size() != walls.size()) return true;
-  double max_d2 = 0.0;
-  for (std::size_t k = 0; k < p.size(); ++k)
-    max_d2 = std::max(max_d2, (p.x[k] - x_ref[k]).squaredNorm());
+  double max_d2 = 0.0;  // a max is exact whatever the order: thread-independent
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+#pragma omp parallel for schedule(static) reduction(max : max_d2) if (n >= 4096)
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const auto kk = static_cast<std::size_t>(k);
+    max_d2 = std::max(max_d2, (p.x[kk] - x_ref[kk]).squaredNorm());
+  }
   double max_w2 = 0.0;
   for (std::size_t w = 0; w < walls.size(); ++w)
     max_w2 = std::max(max_w2, (walls[w].point - wall_ref[w]).squaredNorm());
