@@ -155,7 +155,6 @@ void CdSolver<D>::step() {
   diag_.iterations = result_.iterations;
   diag_.residual = result_.residual;
   diag_.converged = result_.converged;
-  if (!result_.converged) ++unconverged_;
   check_grain_states(w_);
 }
 

@@ -38,7 +38,6 @@ class CdSolver final : public Solver {
   std::vector<std::string> diagnostic_columns() const override;
   void diagnostic_values(std::vector<double>& row) const override;
   const cd::NlgsResult& last_solve() const { return result_; }
-  std::size_t unconverged_steps() const { return unconverged_; }
 
   // The problem NLGS sees: one entry per candidate contact, velocities from the grains.
   // Public so the NLGS template can call it; not part of the user API.
@@ -72,7 +71,6 @@ class CdSolver final : public Solver {
   PhaseTimers timers_;
   Contacts c_;
   cd::NlgsResult result_;
-  std::size_t unconverged_ = 0;
 };
 
 }  // namespace sable

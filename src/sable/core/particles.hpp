@@ -80,7 +80,6 @@ struct ParticleStore {
     constexpr double pi = 3.14159265358979323846;
     return D == 3 ? density * 4.0 / 3.0 * pi * r * r * r : density * pi * r * r * thickness;
   }
-  static double grain_volume(double r, double thickness) { return grain_mass(r, 1.0, thickness); }
 };
 
 }  // namespace sable
