@@ -1,0 +1,216 @@
+#include "sable/analysis/sample.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "sable/core/error.hpp"
+#include "sable/io/snapshot.hpp"
+#include "sable/scenario/build.hpp"
+#include "sable/world/world.hpp"
+
+namespace sable {
+
+template <int D>
+void ContactSet<D>::clear() {
+  i.clear();
+  j.clear();
+  wall.clear();
+  n.clear();
+  force.clear();
+  fn.clear();
+  ft.clear();
+  arm_i.clear();
+  arm_j.clear();
+  branch.clear();
+  overlap.clear();
+  friction.clear();
+}
+
+template <int D>
+void ContactSet<D>::push(std::uint32_t gi, std::uint32_t partner, bool at_wall, const Vec& normal,
+                         const Vec& f, const Vec& a_i, const Vec& a_j, const Vec& l, double delta,
+                         double mu) {
+  i.push_back(gi);
+  j.push_back(partner);
+  wall.push_back(at_wall ? 1 : 0);
+  n.push_back(normal);
+  force.push_back(f);
+  const double f_n = -f.dot(normal);
+  fn.push_back(f_n);
+  ft.push_back(f + f_n * normal);
+  arm_i.push_back(a_i);
+  arm_j.push_back(a_j);
+  branch.push_back(l);
+  overlap.push_back(delta);
+  friction.push_back(mu);
+}
+
+template <int D>
+double Sample<D>::total_mass() const {
+  double m = 0.0;
+  for (double mk : mass) m += mk;
+  return m;
+}
+
+namespace {
+
+template <int D>
+void add_grains(const World<D>& w, Sample<D>& s) {
+  using S = Space<D>;
+  const auto& p = w.particles;
+  const std::size_t n = p.size();
+  s.x = p.x;
+  s.v = p.v;
+  s.w = p.w;
+  s.radius = p.radius;
+  s.mass = p.mass;
+  s.a.resize(n);
+  s.alpha.resize(n);
+  s.volume.resize(n);
+  s.inertia.resize(n);
+  s.fixed.resize(n);
+  s.id.resize(n);
+  constexpr double pi = 3.14159265358979323846;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double r = p.radius[k];
+    s.volume[k] = D == 3 ? 4.0 / 3.0 * pi * r * r * r : pi * r * r * w.thickness;
+    s.inertia[k] = ParticleStore<D>::inertia_factor() * p.mass[k] * r * r;
+    s.fixed[k] = p.fixed(k) ? 1 : 0;
+    s.id[k] = p.id[k].index;
+    if (p.fixed(k)) {
+      s.a[k] = S::zero();
+      s.alpha[k] = S::zero_rot();
+    } else {
+      s.a[k] = p.f[k] * p.inv_mass[k] + w.gravity;
+      s.alpha[k] = p.t[k] * p.inv_inertia[k];
+    }
+  }
+}
+
+// The contact point sits in the middle of the overlap (where DEM applies the force); for an
+// open gap (CD contacts just before closing) each arm ends on its grain's surface.
+template <int D>
+void add_contacts(const World<D>& w, Sample<D>& s) {
+  using Vec = typename Space<D>::Vec;
+  const auto& p = w.particles;
+  const auto& pl = w.neighbors.pairs;
+  auto& c = s.contacts;
+  c.clear();
+  for (std::size_t k = 0; k < pl.size(); ++k) {
+    const Vec& f = pl.force[k];
+    if (f.squaredNorm() == 0.0) continue;
+    const std::uint32_t i = pl.i[k], j = pl.j[k];
+    const Vec d = p.x[j] - p.x[i];
+    const double dist = d.norm();
+    const Vec n = dist > 0.0 ? Vec(d / dist) : Vec(Vec::UnitX());
+    const double delta = p.radius[i] + p.radius[j] - dist;
+    const double half = 0.5 * std::max(delta, 0.0);
+    const double mu = w.materials.pair(p.material[i], p.material[j]).friction;
+    c.push(i, j, false, n, f, (p.radius[i] - half) * n, -(p.radius[j] - half) * n, d, delta, mu);
+  }
+  const auto& wl = w.neighbors.wall_pairs;
+  for (std::size_t k = 0; k < wl.size(); ++k) {
+    const Vec& f = wl.force[k];
+    if (f.squaredNorm() == 0.0) continue;
+    const std::uint32_t i = wl.i[k];
+    const Wall<D>& wall = w.walls[wl.wall[k]];
+    Vec into;
+    const double dist = wall.distance(p.x[i], into);
+    const Vec n = -into;  // from the grain towards the wall
+    const double delta = p.radius[i] - dist;
+    const Vec arm = (p.radius[i] - 0.5 * std::max(delta, 0.0)) * n;
+    const double mu = w.materials.pair(p.material[i], wall.material).friction;
+    c.push(i, wl.wall[k], true, n, f, arm, Vec::Zero(), arm, delta, mu);
+  }
+}
+
+}  // namespace
+
+template <int D>
+Sample<D> make_sample(const World<D>& w) {
+  using S = Space<D>;
+  Sample<D> s;
+  add_grains(w, s);
+  add_contacts(w, s);
+  for (const auto& wall : w.walls) {
+    SampleWall sw;
+    sw.name = wall.name;
+    sw.plane = wall.kind == WallKind::kPlane;
+    sw.point = S::to_array(wall.point);
+    sw.normal = S::to_array(wall.normal);
+    sw.force = S::to_array(wall.force);
+    s.walls.push_back(sw);
+  }
+  s.gravity = w.gravity;
+  s.thickness = w.thickness;
+  s.time = w.time;
+  s.step = w.step;
+  s.source = "live";
+  return s;
+}
+
+int snapshot_dimension(const std::string& path) {
+  return read_snapshot_info(path).dimension;
+}
+
+template <int D>
+Sample<D> load_sample(const std::string& path) {
+  const SnapshotInfo info = read_snapshot_info(path);
+  if (info.dimension != D)
+    throw InputError(fmt::format("{}: a {}D snapshot, but a {}D analysis was asked for", path,
+                                 info.dimension, D));
+  // The scenario text inside the snapshot gives materials, walls and the contact law; the
+  // grains themselves come from the snapshot, so generators are not re-run.
+  ScenarioConfig cfg;
+  try {
+    cfg = parse_scenario(info.scenario_text, path + " (embedded scenario)");
+  } catch (const InputError& e) {
+    throw InputError(
+        fmt::format("{}: the scenario stored in the snapshot does not parse: {}", path, e.what()));
+  }
+  World<D> w;
+  build_model(cfg, w);
+  load_snapshot(path, w);
+  Sample<D> s = make_sample(w);
+  s.source = path;
+  return s;
+}
+
+template <int D>
+double Region<D>::volume(double thickness) const {
+  if (!bounded()) throw InputError("the volume of an unbounded region was asked for");
+  double v = 1.0;
+  for (int d = 0; d < D; ++d) v *= std::max(hi[d] - lo[d], 0.0);
+  return D == 2 ? v * thickness : v;
+}
+
+template <int D>
+Region<D> grain_bounds(const Sample<D>& s) {
+  Region<D> r;
+  if (s.size() == 0) throw InputError(fmt::format("{}: the sample holds no grains", s.source));
+  r.lo = s.x[0].array() - s.radius[0];
+  r.hi = s.x[0].array() + s.radius[0];
+  for (std::size_t k = 1; k < s.size(); ++k) {
+    r.lo = r.lo.cwiseMin(typename Space<D>::Vec(s.x[k].array() - s.radius[k]));
+    r.hi = r.hi.cwiseMax(typename Space<D>::Vec(s.x[k].array() + s.radius[k]));
+  }
+  return r;
+}
+
+template struct ContactSet<2>;
+template struct ContactSet<3>;
+template struct Sample<2>;
+template struct Sample<3>;
+template struct Region<2>;
+template struct Region<3>;
+template Sample<2> make_sample(const World<2>&);
+template Sample<3> make_sample(const World<3>&);
+template Sample<2> load_sample(const std::string&);
+template Sample<3> load_sample(const std::string&);
+template Region<2> grain_bounds(const Sample<2>&);
+template Region<3> grain_bounds(const Sample<3>&);
+
+}  // namespace sable

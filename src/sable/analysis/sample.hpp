@@ -1,0 +1,123 @@
+// What every analysis reads: one instant of a run, as flat arrays, independent of the solver.
+//
+// A Sample is made from a World (a live run, or a snapshot loaded through its scenario). It
+// holds the grains (positions, velocities, accelerations, sizes, masses), the walls, and one
+// record per force-carrying contact. DEM and CD snapshots give the same kind of Sample: DEM
+// stores its contact forces, CD its impulses divided by the step, in the same slots.
+//
+// Conventions (docs/analysis.md):
+//  - n points from grain i towards its partner (grain j, or into the wall);
+//  - force is the force ON grain i (the partner feels -force);
+//  - fn = -force . n is the normal force, positive in compression, negative in tension;
+//  - ft = force + fn n is the tangential force (perpendicular to n);
+//  - arm_i = contact point - x_i, arm_j = contact point - x_j (zero for walls); for an
+//    overlapping pair both arms reach the same point, the middle of the overlap, which is
+//    where the DEM solver applies the force (the torques it integrates use these arms);
+//  - branch = x_j - x_i for grain pairs, arm_i for wall contacts;
+//  - stresses are positive in compression (soil-mechanics sign; Dumont-Fortin-Ouafik write
+//    theirs positive in tension: their tensor is minus ours).
+//
+// Accelerations are those the solver integrated at the snapshot's instant: a = f / m + g with
+// f the contact force sum (DEM: forces at the stored positions; CD: impulses / h of the last
+// step), and alpha = I^-1 torque. Fixed grains have a = 0, alpha = 0.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sable/core/space.hpp"
+#include "sable/geometry/walls.hpp"
+
+namespace sable {
+
+template <int D>
+struct World;
+
+// One record per contact carrying a non-zero force, as parallel arrays.
+template <int D>
+struct ContactSet {
+  using Vec = typename Space<D>::Vec;
+  std::vector<std::uint32_t> i;    // grain slot
+  std::vector<std::uint32_t> j;    // partner: grain slot, or wall index when wall[k] != 0
+  std::vector<std::uint8_t> wall;  // 1 for a grain-wall contact
+  std::vector<Vec> n;              // unit normal from i towards the partner
+  std::vector<Vec> force;          // force on i (N; per thickness in 2D)
+  std::vector<double> fn;          // normal force, > 0 compressive
+  std::vector<Vec> ft;             // tangential force on i
+  std::vector<Vec> arm_i, arm_j;   // contact point relative to x_i, x_j
+  std::vector<Vec> branch;         // x_j - x_i (pairs), arm_i (walls)
+  std::vector<double> overlap;     // > 0 overlapping, < 0 open gap (m)
+  std::vector<double> friction;    // Coulomb coefficient of the pair's materials
+
+  std::size_t size() const { return i.size(); }
+  bool is_wall(std::size_t k) const { return wall[k] != 0; }
+  Vec point(std::size_t k, const std::vector<Vec>& x) const { return x[i[k]] + arm_i[k]; }
+  void clear();
+  void push(std::uint32_t gi, std::uint32_t partner, bool at_wall, const Vec& normal, const Vec& f,
+            const Vec& a_i, const Vec& a_j, const Vec& l, double delta, double mu);
+};
+
+struct SampleWall {
+  std::string name;
+  bool plane = true;
+  std::array<double, 3> point{}, normal{}, force{};  // force ON the wall by the grains
+};
+
+template <int D>
+struct Sample {
+  using S = Space<D>;
+  using Vec = typename S::Vec;
+  using Rot = typename S::Rot;
+
+  // Grains, by slot.
+  std::vector<Vec> x, v, a;                           // position, velocity, acceleration (m/s^2)
+  std::vector<Rot> w, alpha;                          // angular velocity and acceleration
+  std::vector<double> radius, mass, volume, inertia;  // volume: per 2D thickness times it
+  std::vector<std::uint8_t> fixed;
+  std::vector<std::uint32_t> id;  // stable id index (for following grains across snapshots)
+  ContactSet<D> contacts;
+  std::vector<SampleWall> walls;
+
+  Vec gravity = Vec::Zero();
+  double thickness = 1.0;  // 2D out-of-plane depth (m): volumes and stresses use it
+  double time = 0.0;
+  std::uint64_t step = 0;
+  std::string source;  // the snapshot file (or "live"), for messages
+
+  std::size_t size() const { return x.size(); }
+  double total_mass() const;
+};
+
+// The Sample of a World at its current state.
+template <int D>
+Sample<D> make_sample(const World<D>& world);
+
+// Load a snapshot: the world is rebuilt from the scenario text stored inside it, then its
+// dynamic state is read. Throws InputError naming the file if it is missing, truncated or not
+// a Sable snapshot, or of the other dimension than D.
+template <int D>
+Sample<D> load_sample(const std::string& snapshot_path);
+
+// The dimension of a snapshot (2 or 3), read from its header.
+int snapshot_dimension(const std::string& snapshot_path);
+
+// Axis-aligned box; the default (empty) region means "everything".
+template <int D>
+struct Region {
+  using Vec = typename Space<D>::Vec;
+  Vec lo = Vec::Constant(-1e300), hi = Vec::Constant(1e300);
+  bool contains(const Vec& p) const {
+    return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
+  }
+  bool bounded() const { return (lo.array() > -1e299).all() && (hi.array() < 1e299).all(); }
+  // Volume (area times thickness in 2D).
+  double volume(double thickness) const;
+};
+
+// The smallest box holding every grain entirely (x +- r).
+template <int D>
+Region<D> grain_bounds(const Sample<D>& s);
+
+}  // namespace sable
