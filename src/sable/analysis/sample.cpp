@@ -63,6 +63,8 @@ void add_grains(const World<D>& w, Sample<D>& s) {
   const auto& p = w.particles;
   const std::size_t n = p.size();
   s.x = p.x;
+  if (s.geometry == ForceGeometry::kContactDynamics)
+    for (std::size_t k = 0; k < n; ++k) s.x[k] -= w.dt * p.v[k];
   s.v = p.v;
   s.w = p.w;
   s.radius = p.radius;
@@ -90,12 +92,15 @@ void add_grains(const World<D>& w, Sample<D>& s) {
   }
 }
 
-// The contact point sits in the middle of the overlap (where DEM applies the force); for an
-// open gap (CD contacts just before closing) each arm ends on its grain's surface.
+// Soft contacts: the contact point sits in the middle of the overlap (where DEM applies the
+// force; for an open gap each arm ends on its grain's surface). Contact dynamics: arms end on
+// the surfaces. Geometry from the sample's positions (see sample.hpp for CD).
 template <int D>
 void add_contacts(const World<D>& w, Sample<D>& s) {
   using Vec = typename Space<D>::Vec;
   const auto& p = w.particles;
+  const bool soft = s.geometry == ForceGeometry::kSoft;
+  const std::vector<Vec>& x = s.x;
   const auto& pl = w.neighbors.pairs;
   auto& c = s.contacts;
   c.clear();
@@ -103,11 +108,11 @@ void add_contacts(const World<D>& w, Sample<D>& s) {
     const Vec& f = pl.force[k];
     if (f.squaredNorm() == 0.0) continue;
     const std::uint32_t i = pl.i[k], j = pl.j[k];
-    const Vec d = p.x[j] - p.x[i];
+    const Vec d = x[j] - x[i];
     const double dist = d.norm();
     const Vec n = dist > 0.0 ? Vec(d / dist) : Vec(Vec::UnitX());
     const double delta = p.radius[i] + p.radius[j] - dist;
-    const double half = 0.5 * std::max(delta, 0.0);
+    const double half = soft ? 0.5 * std::max(delta, 0.0) : 0.0;
     const double mu = w.materials.pair(p.material[i], p.material[j]).friction;
     c.push(i, j, false, n, f, (p.radius[i] - half) * n, -(p.radius[j] - half) * n, d, delta, mu);
   }
@@ -116,12 +121,13 @@ void add_contacts(const World<D>& w, Sample<D>& s) {
     const Vec& f = wl.force[k];
     if (f.squaredNorm() == 0.0) continue;
     const std::uint32_t i = wl.i[k];
-    const Wall<D>& wall = w.walls[wl.wall[k]];
+    Wall<D> wall = w.walls[wl.wall[k]];
+    if (!soft) wall.point -= w.dt * wall.velocity;  // where it was when the impulse was made
     Vec into;
-    const double dist = wall.distance(p.x[i], into);
+    const double dist = wall.distance(x[i], into);
     const Vec n = -into;  // from the grain towards the wall
     const double delta = p.radius[i] - dist;
-    const Vec arm = (p.radius[i] - 0.5 * std::max(delta, 0.0)) * n;
+    const Vec arm = (p.radius[i] - (soft ? 0.5 * std::max(delta, 0.0) : 0.0)) * n;
     const double mu = w.materials.pair(p.material[i], wall.material).friction;
     c.push(i, wl.wall[k], true, n, f, arm, Vec::Zero(), arm, delta, mu);
   }
@@ -130,9 +136,10 @@ void add_contacts(const World<D>& w, Sample<D>& s) {
 }  // namespace
 
 template <int D>
-Sample<D> make_sample(const World<D>& w) {
+Sample<D> make_sample(const World<D>& w, ForceGeometry geometry) {
   using S = Space<D>;
   Sample<D> s;
+  s.geometry = geometry;
   add_grains(w, s);
   add_contacts(w, s);
   for (const auto& wall : w.walls) {
@@ -174,7 +181,8 @@ Sample<D> load_sample(const std::string& path) {
   World<D> w;
   build_model(cfg, w);
   load_snapshot(path, w);
-  Sample<D> s = make_sample(w);
+  Sample<D> s = make_sample(
+      w, cfg.sim.solver == "cd" ? ForceGeometry::kContactDynamics : ForceGeometry::kSoft);
   s.source = path;
   return s;
 }
@@ -206,8 +214,8 @@ template struct Sample<2>;
 template struct Sample<3>;
 template struct Region<2>;
 template struct Region<3>;
-template Sample<2> make_sample(const World<2>&);
-template Sample<3> make_sample(const World<3>&);
+template Sample<2> make_sample(const World<2>&, ForceGeometry);
+template Sample<3> make_sample(const World<3>&, ForceGeometry);
 template Sample<2> load_sample(const std::string&);
 template Sample<3> load_sample(const std::string&);
 template Region<2> grain_bounds(const Sample<2>&);

@@ -20,6 +20,12 @@
 // Accelerations are those the solver integrated at the snapshot's instant: a = f / m + g with
 // f the contact force sum (DEM: forces at the stored positions; CD: impulses / h of the last
 // step), and alpha = I^-1 torque. Fixed grains have a = 0, alpha = 0.
+//
+// Contact dynamics computes a step's impulses in the configuration at the START of the step
+// and then moves the grains (x_end = x_start + h v_end). A CD sample therefore places the
+// grains and walls where the impulses were computed, x = x_end - h v_end, with the end
+// velocities, and its arms end on the grains' surfaces (r n), as the CD solver's do: every
+// grain's momentum balance then holds exactly in the sample, as it does in the solver.
 #pragma once
 
 #include <array>
@@ -65,6 +71,9 @@ struct SampleWall {
   std::array<double, 3> point{}, normal{}, force{};  // force ON the wall by the grains
 };
 
+// How the solver that produced the forces places them (see above).
+enum class ForceGeometry { kSoft, kContactDynamics };
+
 template <int D>
 struct Sample {
   using S = Space<D>;
@@ -85,6 +94,7 @@ struct Sample {
   double time = 0.0;
   std::uint64_t step = 0;
   std::string source;  // the snapshot file (or "live"), for messages
+  ForceGeometry geometry = ForceGeometry::kSoft;
 
   std::size_t size() const { return x.size(); }
   double total_mass() const;
@@ -92,7 +102,7 @@ struct Sample {
 
 // The Sample of a World at its current state.
 template <int D>
-Sample<D> make_sample(const World<D>& world);
+Sample<D> make_sample(const World<D>& world, ForceGeometry geometry = ForceGeometry::kSoft);
 
 // Load a snapshot: the world is rebuilt from the scenario text stored inside it, then its
 // dynamic state is read. Throws InputError naming the file if it is missing, truncated or not
