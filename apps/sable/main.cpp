@@ -1,12 +1,14 @@
-// The `sable` command line: run, check, info, models, fc3d.
+// The `sable` command line: run, check, info, analyze, models, fc3d.
 //
 // Exit codes: 0 success, 1 the simulation failed (NaN, runaway grain; a snapshot is written),
 // 2 bad input (scenario, snapshot, command line), with a message naming the place.
 #include <fmt/format.h>
 #include <sys/resource.h>
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <iostream>
 
+#include "sable/analysis/analyze.hpp"
 #include "sable/cd/fc3d.hpp"
 #include "sable/contact/contact_model.hpp"
 #include "sable/core/error.hpp"
@@ -81,6 +83,45 @@ int cmd_fc3d(const std::string& file, const Fc3dOptions& o) {
   return 0;
 }
 
+// `sable analyze`: options straight into AnalyzeOptions (validated by run_analysis).
+CLI::App* add_analyze(CLI::App& app, sable::AnalyzeOptions& a) {
+  auto* an = app.add_subcommand("analyze", "micromechanical analysis of snapshots (.h5)");
+  an->add_option("SNAPSHOTS", a.snapshots, "one snapshot, or several to average")->required();
+  an->add_option("--out", a.out_dir, "output directory (default: analysis/ beside the input)");
+  an->add_option("--only", a.only,
+                 "analyses to run: forces coordination fabric polarization particle-stress "
+                 "stress walls percolation fields (default: all)")
+      ->delimiter(',');
+  an->add_option("--region", a.region, "box lo:hi, e.g. 0,0,0.01:0.1,0.1,0.05 (default: grains)");
+  an->add_option("--solid-fraction", a.solid_fraction,
+                 "nu for the free volumes (default: measured)");
+  an->add_option("--bins", a.bins, "histogram bins (default 50)");
+  an->add_option("--reference-force", a.reference_force, "f0 normalising the PDFs (default <f>)");
+  an->add_option("--eps", a.eps, "polarization: on the cone if |ft| >= (1 - eps) mu fn (0.01)");
+  an->add_option("--walls", a.walls, "walls to profile (default: all)")->delimiter(',');
+  an->add_option("--wall-bin", a.wall_bin, "wall-profile bin height in m (default: 2 diameters)");
+  an->add_option("--grid", a.grid, "field grid node counts, e.g. 10x10x40");
+  an->add_option("--spacing", a.spacing, "field grid spacing in m (default: the kernel width)");
+  an->add_option("--line", a.line, "fields along a segment from:to:points, e.g. 0,0,0:0,0,1:50");
+  an->add_option("--kernel", a.kernel, "sphere | gaussian | lucy (default sphere)");
+  an->add_option("--width", a.width, "kernel radius/width in m (default: 2 mean diameters)");
+  an->add_option("--frame", a.frame, "rotating frame px,py,pz:ux,uy,uz (point and axis)");
+  an->add_option("--omega", a.omega, "angular velocity of the rotating frame (rad/s)");
+  an->add_flag("--plot", a.plot, "draw PNG figures next to the tables (python3-matplotlib)");
+  return an;
+}
+
+int cmd_analyze(sable::AnalyzeOptions a) {
+  a.log = &std::cerr;
+  if (a.plot_script.empty()) {
+    const char* env = std::getenv("SABLE_PLOT_SCRIPT");
+    a.plot_script = env ? env : SABLE_SOURCE_DIR "/scripts/plot_analysis.py";
+  }
+  const std::string dir = sable::run_analysis(a);
+  std::cerr << "analysis written to " << dir << "\n";
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -99,6 +140,8 @@ int main(int argc, char** argv) {
   check->add_option("FILE", file, "scenario file")->required();
   auto* info = app.add_subcommand("info", "describe a snapshot");
   info->add_option("SNAPSHOT", file, "snapshot file (.h5)")->required();
+  sable::AnalyzeOptions analyze_opt;
+  auto* analyze = add_analyze(app, analyze_opt);
   auto* models = app.add_subcommand("models", "list the contact sub-models");
   Fc3dOptions fc3d_opt;
   auto* fc3d = app.add_subcommand("fc3d", "solve a Siconos frictional-contact problem (.dat)");
@@ -123,6 +166,7 @@ int main(int argc, char** argv) {
     if (*run) return cmd_run(file, opt);
     if (*check) return cmd_check(file);
     if (*info) return cmd_info(file);
+    if (*analyze) return cmd_analyze(analyze_opt);
     if (*models) return cmd_models();
     if (*fc3d) return cmd_fc3d(file, fc3d_opt);
   } catch (const sable::InputError& e) {

@@ -70,6 +70,14 @@ double wall_width(const Sample<D>& s, const SampleWall& wall, int axis) {
 }  // namespace
 
 template <int D>
+bool is_side_wall(const Sample<D>& s, std::size_t wall, int axis) {
+  const SampleWall& w = s.walls[wall];
+  if (!w.plane) return true;
+  const int a = axis >= 0 ? axis : up_axis(s);
+  return std::abs(w.normal[static_cast<std::size_t>(a)]) < 1.0 - 1e-9;
+}
+
+template <int D>
 WallProfile wall_profile(const Sample<D>& s, const std::string& name,
                          const WallProfileOptions& opt) {
   if (s.size() == 0) throw InputError(fmt::format("{}: the sample holds no grains", s.source));
@@ -88,7 +96,12 @@ WallProfile wall_profile(const Sample<D>& s, const std::string& name,
   }
   p.bin = opt.bin > 0.0 ? opt.bin : 2.0 * mean_d;
   p.width = opt.width > 0.0 ? opt.width : wall_width(s, s.walls[w], p.axis);
-  const auto bins = static_cast<std::size_t>(std::ceil((p.top - bottom) / p.bin));
+  auto bins = static_cast<std::size_t>(std::ceil((p.top - bottom) / p.bin));
+  if (opt.count > 0) {
+    bottom = opt.bottom;
+    p.top = opt.top;
+    bins = opt.count;
+  }
   std::vector<double> fn(bins, 0.0), ft(bins, 0.0), abs_ft(bins, 0.0), mu_fn(bins, 0.0);
   p.contacts.assign(bins, 0);
   const auto& c = s.contacts;
@@ -117,6 +130,31 @@ WallProfile wall_profile(const Sample<D>& s, const std::string& name,
                                             : std::numeric_limits<double>::quiet_NaN());
   }
   return p;
+}
+
+void accumulate(WallProfile& sum, const WallProfile& add) {
+  if (sum.height.size() != add.height.size())
+    throw SimulationError("wall profiles with different bins cannot be averaged");
+  for (std::size_t b = 0; b < sum.height.size(); ++b) {
+    sum.sigma_n[b] += add.sigma_n[b];
+    sum.tau[b] += add.tau[b];
+    sum.abs_tau[b] += add.abs_tau[b];
+    sum.mobilisation[b] += add.mobilisation[b];
+    sum.contacts[b] += add.contacts[b];
+  }
+  sum.total_normal += add.total_normal;
+  sum.total_shear += add.total_shear;
+}
+
+void scale(WallProfile& p, double factor) {
+  for (std::size_t b = 0; b < p.height.size(); ++b) {
+    p.sigma_n[b] *= factor;
+    p.tau[b] *= factor;
+    p.abs_tau[b] *= factor;
+    p.mobilisation[b] *= factor;
+  }
+  p.total_normal *= factor;
+  p.total_shear *= factor;
 }
 
 Table wall_profile_table(const WallProfile& p) {
@@ -149,6 +187,8 @@ Summary wall_profile_summary(const WallProfile& p) {
   return s;
 }
 
+template bool is_side_wall(const Sample<2>&, std::size_t, int);
+template bool is_side_wall(const Sample<3>&, std::size_t, int);
 template WallProfile wall_profile(const Sample<2>&, const std::string&, const WallProfileOptions&);
 template WallProfile wall_profile(const Sample<3>&, const std::string&, const WallProfileOptions&);
 

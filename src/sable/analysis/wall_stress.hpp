@@ -23,6 +23,10 @@ struct WallProfileOptions {
   int axis = -1;       // 0, 1, 2; -1: the axis most opposed to gravity (z in 3D, y in 2D)
   double bin = 0.0;    // bin height (m); <= 0: twice the mean grain diameter
   double width = 0.0;  // wall width (m, 3D planes); <= 0: from the grains' extent
+  // Fixed bins (to average profiles over snapshots): lowest bin edge, number of bins, and the
+  // top depth is measured from. count = 0: from this sample's grains.
+  double bottom = 0.0, top = 0.0;
+  std::size_t count = 0;
 };
 
 struct WallProfile {
@@ -38,6 +42,15 @@ struct WallProfile {
 template <int D>
 WallProfile wall_profile(const Sample<D>& s, const std::string& wall,
                          const WallProfileOptions& opt);
+
+// True for a wall a height profile makes sense for: a cylinder, or a plane not perpendicular
+// to the profile axis (a side wall, not a floor or a lid).
+template <int D>
+bool is_side_wall(const Sample<D>& s, std::size_t wall, int axis = -1);
+
+// Sum of profiles with the same bins (b's values added to a's), and division by n.
+void accumulate(WallProfile& sum, const WallProfile& add);
+void scale(WallProfile& p, double factor);
 
 Table wall_profile_table(const WallProfile& p);
 Summary wall_profile_summary(const WallProfile& p);

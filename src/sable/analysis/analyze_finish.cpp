@@ -1,0 +1,174 @@
+// The writing half of AnalysisParts (analyze_parts.hpp): one finish_* per group of outputs.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+
+#include "sable/analysis/analyze_parts.hpp"
+#include "sable/analysis/forces.hpp"
+#include "sable/analysis/percolation.hpp"
+#include "sable/core/error.hpp"
+
+namespace sable {
+
+namespace {
+
+std::string file_safe(const std::string& name) {
+  std::string out = name;
+  for (char& c : out)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_')) c = '_';
+  return out;
+}
+
+}  // namespace
+
+// An analysis the data cannot support (no tensile contacts, no tangential force, no grain
+// with a pressure...) is skipped with its reason in the summary, and the others still run.
+template <int D>
+void AnalysisParts<D>::attempt(Summary& into, const std::string& name,
+                               const std::function<void()>& body) {
+  try {
+    body();
+  } catch (const InputError& e) {
+    Summary skipped;
+    skipped.add("skipped", std::string(e.what()));
+    into.add(name, skipped);
+    if (opt_.log) *opt_.log << fmt::format("  {}: skipped: {}\n", name, e.what());
+  }
+}
+
+template <int D>
+void AnalysisParts<D>::finish_forces() {
+  if (wants("forces")) {
+    ForceStatsOptions o;
+    o.bins = opt_.bins;
+    o.reference_force = opt_.reference_force;
+    Summary both;
+    for (ForceComponent comp : {ForceComponent::normal, ForceComponent::tangential}) {
+      o.component = comp;
+      const char* name = comp == ForceComponent::normal ? "normal" : "tangential";
+      attempt(both, name, [&] {
+        const ForceStats st = force_statistics(all_, o);
+        both.add(name, summary(st));
+        for (const auto& side : st.sides)
+          if (side.count > 0) out_.write(fmt::format("force_pdf_{}.csv", side.side), table(side));
+      });
+    }
+    summary_.add("forces", both);
+  }
+  if (wants("fabric")) {
+    attempt(summary_, "fabric", [&] {
+      const Fabric f = fabric(bulk_, FabricOptions{});
+      summary_.add("fabric", summary(f));
+      out_.write("fabric.csv", table(f));
+      if (D == 3) out_.write("fabric_azimuth.csv", azimuth_table(f));
+    });
+  }
+  if (wants("polarization")) {
+    PolarizationOptions o;
+    o.bins = opt_.bins;
+    o.eps = opt_.eps;
+    Summary pol;
+    auto one = [&](const std::string& label, const ContactSet<D>& set) {
+      o.label = label;
+      attempt(pol, label, [&] {
+        const Polarization p = polarization(set, std::vector<bool>(set.size(), true), o);
+        pol.add(label, summary(p));
+        out_.write(fmt::format("polarization_{}.csv", file_safe(label)), table(p));
+      });
+    };
+    one(region_ ? "region" : "bulk", bulk_);
+    one("walls", walls_);
+    for (const auto& [name, set] : by_wall_) one("wall_" + name, set);
+    summary_.add("polarization", pol);
+  }
+}
+
+template <int D>
+void AnalysisParts<D>::finish_stress() {
+  if (!wants("stress")) return;
+  const double n = static_cast<double>(samples_);
+  MeanStress<D> m = mean_sum_;
+  m.contact /= n;
+  m.gravity /= n;
+  m.inertia /= n;
+  m.volume /= n;
+  m.grains = static_cast<std::size_t>(static_cast<double>(m.grains) / n + 0.5);
+  Summary s = mean_stress_summary(m, Tensor<D>(love_weber_sum_ / n));
+  s.add("averaged_over", samples_);
+  summary_.add("stress", s);
+}
+
+template <int D>
+void AnalysisParts<D>::finish_walls() {
+  if (!wants("walls")) return;
+  Summary all;
+  for (auto& [name, p] : profiles_) {
+    scale(p, 1.0 / static_cast<double>(samples_));
+    all.add(name, wall_profile_summary(p));
+    out_.write(fmt::format("wall_profile_{}.csv", file_safe(name)), wall_profile_table(p));
+  }
+  summary_.add("walls", all);
+}
+
+template <int D>
+void AnalysisParts<D>::finish_fields() {
+  if (!fields_) return;
+  average(*fields_);
+  summary_.add("fields", field_summary(*fields_));
+  if (fields_->spec.layout == FieldLayout::Grid) {
+    const std::string path = out_.path("fields.vti");
+    out_.write("fields.csv", field_table(*fields_));
+    write_fields_vti(*fields_, path);
+  } else {
+    out_.write("fields_line.csv", field_table(*fields_));
+  }
+}
+
+template <int D>
+void AnalysisParts<D>::finish_per_grain() {
+  if (!last_) return;
+  const Sample<D>& s = *last_;
+  if (wants("coordination")) {
+    const Coordination c = coordination(s);
+    summary_.add("coordination", summary(c));
+    out_.write("coordination.csv", table(c));
+  }
+  if (!wants("particle-stress") && !wants("percolation")) return;
+  const double nu = nu_sum_ / static_cast<double>(samples_);
+  const ParticleStresses<D> ps = particle_stresses(s, nu);
+  if (wants("particle-stress"))
+    attempt(summary_, "particle_stress", [&] {
+      out_.write("particle_stress.csv", particle_stress_table(s, ps));
+      double p_ref = 0.0;
+      out_.write("pressure_pdf.csv", pressure_pdf(pressures_, opt_.bins, p_ref));
+      Summary p;
+      p.add("solid_fraction", nu);
+      p.add("mean_abs_pressure_Pa", p_ref);
+      std::size_t positive = 0, negative = 0;
+      for (double v : pressures_) (v > 0.0 ? positive : negative) += v != 0.0 ? 1 : 0;
+      p.add("positive_fraction",
+            static_cast<double>(positive) / static_cast<double>(pressures_.size()));
+      p.add("negative_fraction",
+            static_cast<double>(negative) / static_cast<double>(pressures_.size()));
+      summary_.add("particle_stress", p);
+    });
+  if (wants("percolation"))
+    attempt(summary_, "percolation", [&] {
+      const Percolation perc = percolation(s, ps.pressure);
+      summary_.add("percolation", summary(perc));
+      out_.write("percolation.csv", table(perc));
+    });
+}
+
+#define SABLE_FINISH(D)                            \
+  template void AnalysisParts<D>::finish_forces(); \
+  template void AnalysisParts<D>::finish_stress(); \
+  template void AnalysisParts<D>::finish_walls();  \
+  template void AnalysisParts<D>::finish_fields(); \
+  template void AnalysisParts<D>::finish_per_grain();
+SABLE_FINISH(2)
+SABLE_FINISH(3)
+#undef SABLE_FINISH
+
+}  // namespace sable

@@ -1,0 +1,73 @@
+// The accumulation behind `sable analyze` (analyze.hpp): each analysis takes samples one at a
+// time (add) and writes its files at the end (finish). Private to the analysis module.
+#pragma once
+
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sable/analysis/analyze.hpp"
+#include "sable/analysis/coarse_grain.hpp"
+#include "sable/analysis/report.hpp"
+#include "sable/analysis/sample.hpp"
+#include "sable/analysis/stress.hpp"
+#include "sable/analysis/wall_stress.hpp"
+
+namespace sable {
+
+template <int D>
+class AnalysisParts {
+ public:
+  AnalysisParts(const AnalyzeOptions& opt, const ResultWriter& out,
+                std::optional<Region<D>> region);
+  void add(const Sample<D>& s);
+  void finish();
+
+ private:
+  bool wants(const char* name) const {
+    return opt_.only.empty() ||
+           std::find(opt_.only.begin(), opt_.only.end(), name) != opt_.only.end();
+  }
+  Region<D> region_of(const Sample<D>& s) const;
+  void add_contacts(const Sample<D>& s);
+  void add_stress(const Sample<D>& s, std::vector<double>& row);
+  void add_walls(const Sample<D>& s);
+  void add_fields(const Sample<D>& s);
+  void attempt(Summary& into, const std::string& name, const std::function<void()>& body);
+  void finish_forces();
+  void finish_stress();
+  void finish_walls();
+  void finish_fields();
+  void finish_per_grain();
+
+  const AnalyzeOptions& opt_;
+  const ResultWriter& out_;
+  std::optional<Region<D>> region_;
+  Summary summary_;
+  std::size_t samples_ = 0;
+  std::vector<std::string> series_names_;
+  std::vector<std::vector<double>> series_;  // rows
+  // Pooled contacts: all, and per polarization selection.
+  ContactSet<D> all_, bulk_;
+  std::map<std::string, ContactSet<D>> by_wall_;
+  ContactSet<D> walls_;
+  std::vector<std::string> wall_names_;
+  // Averaged tensors.
+  MeanStress<D> mean_sum_;
+  Tensor<D> love_weber_sum_ = Tensor<D>::Zero();
+  std::vector<double> pressures_;  // pooled particle pressures
+  double nu_sum_ = 0.0;
+  std::map<std::string, WallProfile> profiles_;
+  std::map<std::string, WallProfileOptions> profile_bins_;
+  std::optional<FieldSpec<D>> field_spec_;
+  std::optional<Fields<D>> fields_;
+  std::optional<Sample<D>> last_;
+};
+
+// Pressure PDF: p / p_ref over a symmetric range, p_ref the mean |p| of the non-zero ones.
+Table pressure_pdf(const std::vector<double>& p, int bins, double& p_ref);
+
+}  // namespace sable
