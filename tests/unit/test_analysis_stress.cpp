@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "run_helpers.hpp"
+#include "sable/analysis/coarse_grain.hpp"
 #include "sable/analysis/frame.hpp"
 #include "sable/analysis/report.hpp"
 #include "sable/analysis/sample.hpp"
@@ -209,6 +210,54 @@ TEST(AnalysisStress, RotatingFrameUndoesARigidRotation) {
   EXPECT_LT(b2.v[0].norm(), 1e-15);
   f2.axis = Eigen::Vector3d::UnitX();
   EXPECT_THROW(to_rotating_frame(s2, f2), InputError);  // 2D turns about z only
+}
+
+// Guillard et al. average their fields in the frame turning with the cylinder: a packing that
+// turns rigidly with the frame must average, in that frame, to its own field at t0. Gaussian
+// kernel (smooth: round-off in the positions moves the weights by round-off only).
+TEST(AnalysisStress, RotatingFrameAverageOfACorotatingFieldIsTheField) {
+  const Sample<3> s0 = random_sample(40, 80, 9);
+  RotatingFrame f;
+  f.point = Eigen::Vector3d(0.5, 0.5, 0.5);
+  f.axis = Eigen::Vector3d::UnitZ();
+  f.omega = 1.7;
+  FieldSpec<3> spec;
+  spec.kernel = CgKernel::Gaussian;
+  spec.width = 0.15;
+  spec.cells = {4, 4, 4};
+  spec.box.lo = Eigen::Vector3d::Zero();
+  spec.box.hi = Eigen::Vector3d::Ones();
+  const Fields<3> reference = coarse_grain(s0, spec);
+  Fields<3> sum;
+  for (double t : {0.3, 1.1, 2.9, 4.0}) {
+    const Eigen::Matrix3d r = Eigen::AngleAxisd(f.omega * t, f.axis).toRotationMatrix();
+    Sample<3> s = s0;
+    s.time = t;
+    for (std::size_t g = 0; g < s.size(); ++g) {
+      s.x[g] = f.point + r * (s0.x[g] - f.point);
+      s.v[g] = (f.omega * f.axis).cross(s.x[g] - f.point);  // turning with the frame
+    }
+    for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+      s.contacts.force[k] = r * s0.contacts.force[k];
+      s.contacts.arm_i[k] = r * s0.contacts.arm_i[k];
+      s.contacts.arm_j[k] = r * s0.contacts.arm_j[k];
+      s.contacts.branch[k] = r * s0.contacts.branch[k];
+    }
+    accumulate(sum, coarse_grain(to_rotating_frame(s, f), spec));
+  }
+  ASSERT_EQ(sum.snapshots, 4);
+  average(sum);
+  double rho_max = 0.0, sigma_max = 0.0;
+  for (std::size_t k = 0; k < reference.size(); ++k) {
+    rho_max = std::max(rho_max, reference.density[k]);
+    sigma_max = std::max(sigma_max, reference.stress[k].norm());
+  }
+  ASSERT_GT(sigma_max, 0.0);
+  for (std::size_t k = 0; k < reference.size(); ++k) {
+    // Round-off of rotating forth and back: 1e-12 of the field's largest value.
+    EXPECT_NEAR(sum.density[k], reference.density[k], 1e-12 * rho_max);
+    EXPECT_LT((sum.stress[k] - reference.stress[k]).norm(), 1e-12 * sigma_max);
+  }
 }
 
 // Bad snapshots: missing, truncated, not a snapshot at all, the other dimension. Each gives an
