@@ -9,6 +9,7 @@
 //   polarization_<selection>.csv     |ft| / (mu fn) histograms (bulk, walls, each wall)
 //   particle_stress.csv, pressure_pdf.csv   per-grain stresses (last snapshot), pressure PDF
 //   wall_profile_<wall>.csv      wall normal and shear stress against height
+//   janssen.csv                  side-wall normal stress with Janssen's fitted profile
 //   percolation.csv              per-grain phase and cluster label (last snapshot)
 //   fields.vti / fields_line.csv coarse-grained fields (grid / line)
 //   series.csv                   per-snapshot scalars when several snapshots are given
@@ -46,9 +47,9 @@ struct AnalyzeOptions {
   std::ostream* log = nullptr;
 };
 
-inline constexpr const char* kAnalyses[] = {"forces",       "coordination",    "fabric",
-                                            "polarization", "particle-stress", "stress",
-                                            "walls",        "percolation",     "fields"};
+inline constexpr const char* kAnalyses[] = {
+    "forces", "coordination", "fabric",      "polarization", "particle-stress",
+    "stress", "walls",        "percolation", "fields",       "janssen"};
 
 // Runs the analyses; returns the output directory. Throws InputError for bad options or
 // snapshots (naming the file or the option), before anything is written where possible.

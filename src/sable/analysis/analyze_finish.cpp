@@ -6,6 +6,7 @@
 
 #include "sable/analysis/analyze_parts.hpp"
 #include "sable/analysis/forces.hpp"
+#include "sable/analysis/janssen.hpp"
 #include "sable/analysis/percolation.hpp"
 #include "sable/core/error.hpp"
 
@@ -111,6 +112,88 @@ void AnalysisParts<D>::finish_walls() {
   summary_.add("walls", all);
 }
 
+namespace {
+
+// A / P of the silo the side walls make: 2D, two facing planes (A / P = W / 2); 3D, a
+// cylinder (R / 2) or two pairs of facing planes (W1 W2 / (2 (W1 + W2))). Also A (the
+// cross-section, times the thickness in 2D).
+template <int D>
+std::pair<double, double> silo_section(const Sample<D>& s, const std::vector<std::size_t>& side) {
+  std::vector<double> widths;
+  for (std::size_t a = 0; a < side.size(); ++a) {
+    const SampleWall& wa = s.walls[side[a]];
+    if (!wa.plane) {
+      constexpr double pi = 3.14159265358979323846;
+      return {wa.radius / 2.0, pi * wa.radius * wa.radius};
+    }
+    for (std::size_t b = a + 1; b < side.size(); ++b) {
+      const SampleWall& wb = s.walls[side[b]];
+      double dot = 0.0, gap = 0.0;
+      for (std::size_t d = 0; d < 3; ++d) {
+        dot += wa.normal[d] * wb.normal[d];
+        gap += (wb.point[d] - wa.point[d]) * wa.normal[d];
+      }
+      if (dot < -1.0 + 1e-9) widths.push_back(gap);
+    }
+  }
+  if (D == 2 && widths.size() == 1) return {widths[0] / 2.0, widths[0] * s.thickness};
+  if (D == 3 && widths.size() == 2)
+    return {widths[0] * widths[1] / (2.0 * (widths[0] + widths[1])), widths[0] * widths[1]};
+  throw InputError(
+      fmt::format("{}: the side walls do not make a silo (2D: two facing planes; "
+                  "3D: a cylinder or two pairs of facing planes)",
+                  s.source));
+}
+
+}  // namespace
+
+template <int D>
+void AnalysisParts<D>::finish_janssen() {
+  if (!wants("janssen") || !last_) return;
+  attempt(summary_, "janssen", [&] {
+    const Sample<D>& s = *last_;
+    std::vector<std::size_t> side;
+    for (std::size_t w = 0; w < s.walls.size(); ++w)
+      if (profiles_.count(s.walls[w].name) && is_side_wall(s, w)) side.push_back(w);
+    const auto [a_over_p, section] = silo_section(s, side);
+    JanssenInput in;
+    const WallProfile& first = profiles_.at(s.walls[side.front()].name);
+    in.depth = first.depth;
+    in.sigma_xx.assign(first.depth.size(), 0.0);
+    double mu = 0.0;
+    std::size_t n_mu = 0;
+    for (std::size_t k = 0; k < s.contacts.size(); ++k)
+      if (s.contacts.is_wall(k) &&
+          std::find(side.begin(), side.end(), s.contacts.j[k]) != side.end()) {
+        mu += s.contacts.friction[k];
+        ++n_mu;
+      }
+    for (std::size_t w : side) {
+      const WallProfile& p = profiles_.at(s.walls[w].name);
+      for (std::size_t b = 0; b < p.sigma_n.size(); ++b)
+        in.sigma_xx[b] += p.sigma_n[b] / static_cast<double>(side.size());
+    }
+    in.height = first.top - (first.height.front() - 0.5 * first.bin);
+    in.rho_b = s.total_mass() / (section * in.height);
+    in.g = s.gravity.norm();
+    in.area_over_perimeter = a_over_p;
+    in.mu_w = n_mu ? mu / static_cast<double>(n_mu) : 0.0;
+    const JanssenFit fit = janssen_fit(in);
+    Summary j = janssen_summary(fit);
+    j.add("bulk_density_kg_m3", in.rho_b);
+    j.add("height_m", in.height);
+    j.add("area_over_perimeter_m", a_over_p);
+    j.add("wall_friction", in.mu_w);
+    j.add("weight_N", weight_sum_ / static_cast<double>(samples_));
+    j.add("floor_support_N", floor_sum_ / static_cast<double>(samples_));
+    j.add("wall_friction_support_N", friction_sum_ / static_cast<double>(samples_));
+    j.add("support_over_weight", (floor_sum_ + friction_sum_) / weight_sum_);
+    j.add("floor_stress_Pa", floor_sum_ / static_cast<double>(samples_) / section);
+    summary_.add("janssen", j);
+    out_.write("janssen.csv", janssen_table(fit));
+  });
+}
+
 template <int D>
 void AnalysisParts<D>::finish_fields() {
   if (!fields_) return;
@@ -161,12 +244,13 @@ void AnalysisParts<D>::finish_per_grain() {
     });
 }
 
-#define SABLE_FINISH(D)                            \
-  template void AnalysisParts<D>::finish_forces(); \
-  template void AnalysisParts<D>::finish_stress(); \
-  template void AnalysisParts<D>::finish_walls();  \
-  template void AnalysisParts<D>::finish_fields(); \
-  template void AnalysisParts<D>::finish_per_grain();
+#define SABLE_FINISH(D)                               \
+  template void AnalysisParts<D>::finish_forces();    \
+  template void AnalysisParts<D>::finish_stress();    \
+  template void AnalysisParts<D>::finish_walls();     \
+  template void AnalysisParts<D>::finish_fields();    \
+  template void AnalysisParts<D>::finish_per_grain(); \
+  template void AnalysisParts<D>::finish_janssen();
 SABLE_FINISH(2)
 SABLE_FINISH(3)
 #undef SABLE_FINISH

@@ -195,7 +195,17 @@ void AnalysisParts<D>::add_stress(const Sample<D>& s, std::vector<double>& row) 
 
 template <int D>
 void AnalysisParts<D>::add_walls(const Sample<D>& s) {
-  if (!wants("walls")) return;
+  if (!wants("walls") && !wants("janssen")) return;
+  // Global balance of a silo: the floors' support plus the side walls' friction carry the
+  // weight (floors: plane walls perpendicular to the up axis).
+  const auto up = s.gravity.squaredNorm() > 0.0
+                      ? typename Space<D>::Vec(-s.gravity.normalized())
+                      : typename Space<D>::Vec(Space<D>::Vec::Unit(D - 1));
+  weight_sum_ += s.total_mass() * s.gravity.norm();
+  for (std::size_t w = 0; w < s.walls.size(); ++w) {
+    if (is_side_wall(s, w)) continue;
+    for (int d = 0; d < D; ++d) floor_sum_ -= s.walls[w].force[static_cast<std::size_t>(d)] * up[d];
+  }
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
     const std::string& name = s.walls[w].name;
     if (!std::count(wall_names_.begin(), wall_names_.end(), name)) continue;
@@ -215,8 +225,10 @@ void AnalysisParts<D>::add_walls(const Sample<D>& s) {
       o.width = p.width;
       profile_bins_[name] = o;
       profiles_[name] = p;
+      friction_sum_ += p.total_shear;
     } else {
       accumulate(profiles_[name], p);
+      friction_sum_ += p.total_shear;
     }
   }
 }
@@ -255,6 +267,7 @@ void AnalysisParts<D>::finish() {
   finish_walls();
   finish_fields();
   finish_per_grain();
+  finish_janssen();
   if (samples_ > 1) {
     Table t;
     for (std::size_t c = 0; c < series_.front().size(); ++c) {

@@ -42,6 +42,7 @@ class AnalysisParts {
   void finish_walls();
   void finish_fields();
   void finish_per_grain();
+  void finish_janssen();
 
   const AnalyzeOptions& opt_;
   const ResultWriter& out_;
@@ -62,6 +63,8 @@ class AnalysisParts {
   double nu_sum_ = 0.0;
   std::map<std::string, WallProfile> profiles_;
   std::map<std::string, WallProfileOptions> profile_bins_;
+  // Silo balance, summed over snapshots: weight, support by floors, friction of side walls (N).
+  double weight_sum_ = 0.0, floor_sum_ = 0.0, friction_sum_ = 0.0;
   std::optional<FieldSpec<D>> field_spec_;
   std::optional<Fields<D>> fields_;
   std::optional<Sample<D>> last_;

@@ -149,6 +149,7 @@ Sample<D> make_sample(const World<D>& w, ForceGeometry geometry) {
     sw.point = S::to_array(wall.point);
     sw.normal = S::to_array(wall.normal);
     sw.force = S::to_array(wall.force);
+    sw.radius = wall.radius;
     s.walls.push_back(sw);
   }
   s.gravity = w.gravity;

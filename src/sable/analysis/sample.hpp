@@ -69,6 +69,7 @@ struct SampleWall {
   std::string name;
   bool plane = true;
   std::array<double, 3> point{}, normal{}, force{};  // force ON the wall by the grains
+  double radius = 0.0;                               // cylinder
 };
 
 // How the solver that produced the forces places them (see above).
