@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <limits>
 
 #include "sable/analysis/analyze_parts.hpp"
 #include "sable/analysis/forces.hpp"
@@ -19,6 +20,37 @@ std::string file_safe(const std::string& name) {
   for (char& c : out)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_')) c = '_';
   return out;
+}
+
+// One row per force-carrying contact: the network a figure draws (centre to centre, or centre
+// to the contact point for walls), with the normal force and the mobilisation |ft| / (mu fn).
+template <int D>
+Table contact_table(const Sample<D>& s) {
+  static constexpr const char* axes = "xyz";
+  const auto& c = s.contacts;
+  const std::size_t n = c.size();
+  std::vector<double> col(n);
+  Table t;
+  auto add = [&](const std::string& name, const auto& value) {
+    for (std::size_t k = 0; k < n; ++k) col[k] = value(k);
+    t.add(name, col);
+  };
+  add("i", [&](std::size_t k) { return static_cast<double>(c.i[k]); });
+  add("partner", [&](std::size_t k) { return static_cast<double>(c.j[k]); });
+  add("wall", [&](std::size_t k) { return static_cast<double>(c.wall[k]); });
+  for (int d = 0; d < D; ++d)
+    add(fmt::format("{}_i_m", axes[d]), [&](std::size_t k) { return s.x[c.i[k]][d]; });
+  for (int d = 0; d < D; ++d)
+    add(fmt::format("{}_end_m", axes[d]), [&](std::size_t k) {
+      return c.is_wall(k) ? s.x[c.i[k]][d] + c.arm_i[k][d] : s.x[c.j[k]][d];
+    });
+  add("fn_N", [&](std::size_t k) { return c.fn[k]; });
+  add("ft_N", [&](std::size_t k) { return c.ft[k].norm(); });
+  add("mobilisation", [&](std::size_t k) {
+    const double cap = c.friction[k] * c.fn[k];
+    return cap > 0.0 ? c.ft[k].norm() / cap : std::numeric_limits<double>::quiet_NaN();
+  });
+  return t;
 }
 
 }  // namespace
@@ -212,6 +244,7 @@ template <int D>
 void AnalysisParts<D>::finish_per_grain() {
   if (!last_) return;
   const Sample<D>& s = *last_;
+  if (wants("polarization")) out_.write("contacts.csv", contact_table(s));
   if (wants("coordination")) {
     const Coordination c = coordination(s);
     summary_.add("coordination", summary(c));
