@@ -1,6 +1,7 @@
 // End-to-end runs through the scenario runner: determinism, bit-exact restart, and the CLI's
 // handling of bad input. All comparisons are exact (state hashes over every bit of the state).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -125,9 +126,11 @@ TEST_P(RunDim, BitIdenticalForOneAndTwoThreads) {
 
 INSTANTIATE_TEST_SUITE_P(TwoAndThreeD, RunDim, ::testing::Values(2, 3));
 
-// Run the CLI, capturing its exit status and its stderr+stdout.
+// Run the CLI, capturing its exit status and its stderr+stdout. The log is named after the
+// process: ctest runs tests as parallel processes, which must not share it.
 int cli(const std::string& args, std::string& output) {
-  const fs::path log = fs::temp_directory_path() / "sable_cli_test.log";
+  const fs::path log =
+      fs::temp_directory_path() / ("sable_cli_test_" + std::to_string(getpid()) + ".log");
   const std::string cmd = std::string(SABLE_CLI) + " " + args + " > " + log.string() + " 2>&1";
   const int status = std::system(cmd.c_str());
   std::ifstream f(log);

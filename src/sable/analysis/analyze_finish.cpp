@@ -212,6 +212,21 @@ void AnalysisParts<D>::finish_janssen() {
     in.mu_w = n_mu ? mu / static_cast<double>(n_mu) : 0.0;
     const JanssenFit fit = janssen_fit(in);
     Summary j = janssen_summary(fit);
+    // The same fit with the friction the walls actually mobilised (sum ft / sum fn), which is
+    // what the global balance sees when some wall contacts stick or roll.
+    double normal = 0.0, shear = 0.0;
+    for (std::size_t w : side) {
+      normal += profiles_.at(s.walls[w].name).total_normal;
+      shear += profiles_.at(s.walls[w].name).total_shear;
+    }
+    if (normal > 0.0 && shear > 0.0) {
+      JanssenInput mob = in;
+      mob.mu_w = shear / normal;
+      const JanssenFit m = janssen_fit(mob);
+      Summary ms = janssen_summary(m);
+      ms.add("wall_friction", mob.mu_w);
+      j.add("with_mobilised_friction", ms);
+    }
     j.add("bulk_density_kg_m3", in.rho_b);
     j.add("height_m", in.height);
     j.add("area_over_perimeter_m", a_over_p);
@@ -220,6 +235,10 @@ void AnalysisParts<D>::finish_janssen() {
     j.add("floor_support_N", floor_sum_ / static_cast<double>(samples_));
     j.add("wall_friction_support_N", friction_sum_ / static_cast<double>(samples_));
     j.add("support_over_weight", (floor_sum_ + friction_sum_) / weight_sum_);
+    // Newton for the grains together: support - weight = sum m a (upwards); exact at any instant.
+    j.add("grain_momentum_rate_N", momentum_sum_ / static_cast<double>(samples_));
+    j.add("support_minus_momentum_rate_over_weight",
+          (floor_sum_ + friction_sum_ - momentum_sum_) / weight_sum_);
     j.add("floor_stress_Pa", floor_sum_ / static_cast<double>(samples_) / section);
     summary_.add("janssen", j);
     out_.write("janssen.csv", janssen_table(fit));

@@ -202,6 +202,8 @@ void AnalysisParts<D>::add_walls(const Sample<D>& s) {
                       ? typename Space<D>::Vec(-s.gravity.normalized())
                       : typename Space<D>::Vec(Space<D>::Vec::Unit(D - 1));
   weight_sum_ += s.total_mass() * s.gravity.norm();
+  for (std::size_t g = 0; g < s.size(); ++g)
+    if (!s.fixed[g]) momentum_sum_ += s.mass[g] * s.a[g].dot(up);
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
     if (is_side_wall(s, w)) continue;
     for (int d = 0; d < D; ++d) floor_sum_ -= s.walls[w].force[static_cast<std::size_t>(d)] * up[d];

@@ -64,7 +64,7 @@ class AnalysisParts {
   std::map<std::string, WallProfile> profiles_;
   std::map<std::string, WallProfileOptions> profile_bins_;
   // Silo balance, summed over snapshots: weight, support by floors, friction of side walls (N).
-  double weight_sum_ = 0.0, floor_sum_ = 0.0, friction_sum_ = 0.0;
+  double weight_sum_ = 0.0, floor_sum_ = 0.0, friction_sum_ = 0.0, momentum_sum_ = 0.0;
   std::optional<FieldSpec<D>> field_spec_;
   std::optional<Fields<D>> fields_;
   std::optional<Sample<D>> last_;
