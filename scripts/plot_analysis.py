@@ -164,6 +164,41 @@ def plot_percolation(directory, out):
     save(fig, out)
 
 
+def plot_janssen(t, summary, out):
+    j = summary.get("janssen", {})
+    fig, ax = plt.subplots(figsize=(5, 4))
+    ax.plot(t["wall_normal_stress_Pa"], t["depth_m"], "o", label="side walls (measured)")
+    if j.get("K"):
+        z = np.linspace(0, t["depth_m"].max() * 1.05, 100)
+        ax.plot(j["saturation_wall_stress_Pa"] * (1 - np.exp(-z / j["lambda_m"])), z, "-",
+                label=f"Janssen K = {j['K']:.2f} +- {j['K_stderr']:.2f}, R2 = {j['r2']:.2f}")
+    ax.invert_yaxis()
+    ax.set_xlabel("wall normal stress (Pa)")
+    ax.set_ylabel("depth (m)")
+    ax.legend(fontsize=8)
+    save(fig, out)
+
+
+def plot_contacts(t, out):
+    from matplotlib.collections import LineCollection
+    three = "z_i_m" in t
+    v = "z" if three else "y"
+    xi, yi, xe, ye = t["x_i_m"], t[v + "_i_m"], t["x_end_m"], t[v + "_end_m"]
+    keep = np.ones(len(xi), bool)
+    if three:  # a slab through the middle in y
+        keep = np.abs(t["y_i_m"] - np.median(t["y_i_m"])) < 0.05 * np.ptp(t["y_i_m"]) + 1e-12
+    fn = t["fn_N"][keep]
+    segs = np.stack([np.stack([xi[keep], yi[keep]], 1), np.stack([xe[keep], ye[keep]], 1)], 1)
+    on = np.nan_to_num(t["mobilisation"][keep]) >= 0.99
+    fig, ax = plt.subplots(figsize=(5, 6))
+    ax.add_collection(LineCollection(segs, linewidths=0.3 + 3 * fn / max(fn.max(), 1e-300),
+                                     colors=np.where(on, "tab:red", "0.5")))
+    ax.autoscale()
+    ax.set_aspect("equal")
+    ax.set_title("contact network: width ~ fn, red = on the Coulomb cone", fontsize=9)
+    save(fig, out)
+
+
 def plot_series(t, out):
     cols = [c for c in t if c not in ("time_s", "step")]
     fig, axes = plt.subplots(len(cols), 1, figsize=(6, 1.8 * len(cols)), sharex=True)
@@ -207,6 +242,10 @@ def main(directory):
             plot_percolation(directory, out)
         elif name == "series":
             plot_series(t, out)
+        elif name == "janssen":
+            plot_janssen(t, summary, out)
+        elif name == "contacts":
+            plot_contacts(t, out)
 
 
 if __name__ == "__main__":
