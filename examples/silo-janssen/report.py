@@ -2,6 +2,7 @@
 """Summary and figure of the silo study (examples/silo-janssen/run.sh).
 
 Usage: /usr/bin/python3 examples/silo-janssen/report.py OUT_DIR CASE [CASE ...]
+(the large case writes summary-large.json and silo-janssen-large.png instead)
 
 Reads OUT_DIR/CASE/{before,relax,after}/summary.json (written by `sable analyze`), the fitted
 profile OUT_DIR/CASE/relax/janssen.csv and the contact network OUT_DIR/CASE/relax/contacts.csv,
@@ -130,6 +131,7 @@ def draw_profiles(ax, out, cases, summary):
 
 
 def main(out, cases):
+    tag = "-large" if cases == ["dem-2d-large"] else ""
     summary = {case: case_summary(out, case) for case in cases}
     ks = {c: summary[c]["janssen"] for c in cases if summary[c].get("janssen", {}).get("K")}
     if "cd-2d" in ks and "dem-2d" in ks:
@@ -139,7 +141,7 @@ def main(out, cases):
                                    "combined_stderr": math.hypot(a["K_stderr"], b["K_stderr"]),
                                    "within_2_sigma": diff < 2 * math.hypot(a["K_stderr"],
                                                                            b["K_stderr"])}
-    with open(os.path.join(out, "summary.json"), "w") as f:
+    with open(os.path.join(out, f"summary{tag}.json"), "w") as f:
         json.dump(summary, f, indent=2)
     print(json.dumps(summary, indent=2))
     fig, axes = plt.subplots(1, 2, figsize=(11, 6), gridspec_kw={"width_ratios": [1, 1.4]})
@@ -150,8 +152,8 @@ def main(out, cases):
                  f"(side-wall contacts on the cone: {100 * frac:.0f} %)")
     draw_profiles(axes[1], out, cases, summary)
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "silo-janssen.png"), dpi=120)
-    print("wrote", os.path.join(out, "silo-janssen.png"))
+    fig.savefig(os.path.join(out, f"silo-janssen{tag}.png"), dpi=120)
+    print("wrote", os.path.join(out, f"silo-janssen{tag}.png"))
 
 
 if __name__ == "__main__":
