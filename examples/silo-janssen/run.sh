@@ -12,7 +12,8 @@
 #                            profile and the fitted Janssen curve (the paper's Figure 7)
 # Usage: examples/silo-janssen/run.sh [quick | full | large]
 #   quick  2D contact dynamics only (the README's main job, ~2 minutes on 2 cores)
-#   full   2D CD, 2D DEM (Hertz-Mindlin, stiff grains) and 3D CD (cylindrical silo)
+#   full   2D CD, 2D DEM (Hertz-Mindlin, stiff grains) and 3D CD (cylindrical silo; the 3D
+#          run alone takes 15-25 minutes)
 #   large  the 3,000-grain 2D DEM variant of docs/examples.md (~10 minutes)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
