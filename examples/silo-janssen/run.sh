@@ -28,10 +28,11 @@ bin=./build/release/bin/sable
 out=out/silo-janssen
 mkdir -p "$out"
 
-# Wall-profile bins: six mean diameters (18 mm), so that each bin of the 350-grain silo holds
-# ~10 wall contacts per snapshot and the profile averaged over the descent is smooth enough to
-# test Janssen's shape (docs/examples.md).
-bin_height=0.018
+# Wall-profile bins: six mean diameters (18 mm) in 2D, so that each bin of the 350-grain silo
+# holds ~10 wall contacts per snapshot and the profile averaged over the descent is smooth
+# enough to test Janssen's shape; four (12 mm) for the 3D silo, whose wall is a surface with
+# many more contacts per bin (docs/examples.md).
+bin_for() { if [ "$1" = cd-3d ]; then echo 0.012; else echo 0.018; fi; }
 
 step_of() { "$bin" info "$1" | awk '$1 == "step" { print $2 }'; }
 
@@ -54,7 +55,8 @@ run_case() {
     if [ "$s" -gt "$s1" ] && [ "$s" -lt "$s2" ]; then relax+=("$f"); fi
   done
   relax+=("$snaps/end_of_stage_2.h5")
-  local what="walls,janssen,polarization,stress"
+  local what="walls,janssen,polarization,stress" bin_height
+  bin_height=$(bin_for "$name")
   "$bin" analyze "$snaps/end_of_stage_1.h5" --only "$what" --wall-bin "$bin_height" \
     --out "$dir/before" 2> "$dir/before.log"
   "$bin" analyze "${relax[@]}" --only "$what" --wall-bin "$bin_height" --out "$dir/relax" \
