@@ -112,11 +112,21 @@ def draw_profiles(ax, out, cases, summary):
         j = summary[case].get("janssen", {})
         t = read_csv(os.path.join(out, case, "relax", "janssen.csv"))
         ax.plot(t["wall_normal_stress_Pa"], t["depth_m"], styles[k % 4], label=f"{case}: measured")
+        z = np.linspace(0, max(t["depth_m"]) * 1.05, 100)
+        colour = ax.lines[-1].get_color()
         if j.get("K"):
-            z = np.linspace(0, max(t["depth_m"]) * 1.05, 100)
             fit = j["saturation_wall_stress_Pa"] * (1 - np.exp(-z / j["lambda_m"]))
-            ax.plot(fit, z, "-", label=f"{case}: Janssen K = {j['K']:.2f} +- {j['K_stderr']:.2f}"
-                    f" (R2 = {j['r2']:.2f})")
+            ax.plot(fit, z, "-", color=colour, label=f"{case}: Janssen, mu_w = "
+                    f"{j['wall_friction']:.2f}: K = {j['K']:.2f} +- {j['K_stderr']:.2f}, "
+                    f"R2 = {j['r2']:.2f}")
+        m = j.get("with_mobilised_friction", {})
+        if m.get("K"):
+            fit = m["saturation_wall_stress_Pa"] * (1 - np.exp(-z / m["lambda_m"]))
+            ax.plot(fit, z, "--", color=colour, label=f"{case}: Janssen, mobilised mu = "
+                    f"{m['wall_friction']:.2f}: K = {m['K']:.2f} +- {m['K_stderr']:.2f}, "
+                    f"R2 = {m['r2']:.2f}")
+        if k > 0:
+            continue
         before = os.path.join(out, case, "before")
         walls = side_walls(load(os.path.join(before, "summary.json")))
         if walls:
