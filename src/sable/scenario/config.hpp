@@ -137,6 +137,14 @@ struct StageConfig {
   std::uint64_t max_steps = 0;                 // ... but at most this many steps (required then)
   std::uint64_t check_interval = 100;          // steps between kinetic-energy checks
   std::map<std::string, Vec3a> wall_velocity;  // set at stage start: wall name -> velocity
+  // Stress control (loading/servo.hpp): wall or box name -> target normal stress (Pa); the
+  // walls move at most servo_max_velocity (required with wall_stress), with servo_gain (m/s per
+  // Pa; 0: max velocity / largest target). stress_tolerance (relative) adds "every target
+  // within it" to a kinetic_energy_below stage's end condition: "until equilibrium".
+  std::map<std::string, double> wall_stress;
+  double servo_gain = 0.0;
+  double servo_max_velocity = 0.0;
+  std::optional<double> stress_tolerance;
   SourceLoc loc;
 };
 

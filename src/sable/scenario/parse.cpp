@@ -501,10 +501,40 @@ void parse_wall_velocity(const Table& s, StageConfig& st, const std::vector<std:
   }
 }
 
+// wall_stress = { box = 1000.0 } or { "box.xlo" = 1000.0, ... }: a box name stands for all of
+// its planes; stress in Pa, compression positive.
+void parse_wall_stress(const Table& s, StageConfig& st, const std::vector<std::string>& names) {
+  const auto t = s.table("wall_stress");
+  if (!t) return;
+  for (auto&& [k, v] : t->raw()) {
+    const std::string name(k.str());
+    const std::string key = t->key_path(name);
+    if (!detail::contains(names, name) && !detail::contains(names, name + ".xlo"))
+      detail::fail_at(k.source(), s.file(),
+                      "unknown wall " + key +
+                          ": expected a wall or box name (known: " + detail::join(names) + ")");
+    const auto value = t->number(name, kNonNegative);
+    if (!value) detail::fail_at(k.source(), s.file(), key + ": expected a stress in Pa (>= 0)");
+    st.wall_stress[name] = *value;
+  }
+  if (!st.wall_stress.empty()) {
+    if (!s.has("servo_max_velocity")) s.fail_missing("servo_max_velocity", "a speed > 0 (m/s)");
+    st.servo_max_velocity = *s.number("servo_max_velocity", kPositive);
+    st.servo_gain = s.number("servo_gain", kPositive).value_or(0.0);
+    st.stress_tolerance = s.number("stress_tolerance", kPositive);
+    if (st.stress_tolerance && !st.kinetic_energy_below)
+      s.fail("stress_tolerance", "only with kinetic_energy_below (an until-equilibrium stage)");
+  } else {
+    for (const char* k : {"servo_max_velocity", "servo_gain", "stress_tolerance"})
+      s.reject(k, "to a stage without wall_stress");
+  }
+}
+
 StageConfig parse_stage(const Table& s, std::size_t index, const std::vector<std::string>& names,
                         int dim) {
-  s.check_keys(
-      {"name", "steps", "kinetic_energy_below", "max_steps", "check_interval", "wall_velocity"});
+  s.check_keys({"name", "steps", "kinetic_energy_below", "max_steps", "check_interval",
+                "wall_velocity", "wall_stress", "servo_gain", "servo_max_velocity",
+                "stress_tolerance"});
   StageConfig st;
   st.name = s.string("name").value_or("stage" + std::to_string(index));
   if (st.name.empty()) s.fail("name", "a non-empty string");
@@ -526,6 +556,7 @@ StageConfig parse_stage(const Table& s, std::size_t index, const std::vector<std
   }
   st.check_interval = s.unsigned_or("check_interval", st.check_interval, 1);
   parse_wall_velocity(s, st, names, dim);
+  parse_wall_stress(s, st, names);
   st.loc = s.loc();
   return st;
 }

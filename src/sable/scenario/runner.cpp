@@ -11,6 +11,7 @@
 #include "sable/io/csv.hpp"
 #include "sable/io/snapshot.hpp"
 #include "sable/io/vtk.hpp"
+#include "sable/loading/servo.hpp"
 #include "sable/scenario/build.hpp"
 #include "sable/scenario/progress.hpp"
 
@@ -37,6 +38,7 @@ class Runner {
   void open_outputs(bool resuming);
   void start_stage();
   bool stage_done();
+  void load_servo_targets();
   void after_step();
   void write_frame();
   void write_snapshot(const std::string& file);
@@ -63,6 +65,7 @@ class Runner {
   RunPosition pos_;
   std::optional<CsvLog> csv_;
   std::optional<PvdSeries> grains_pvd_, contacts_pvd_, walls_pvd_;
+  std::vector<ServoTarget> servo_;  // this stage's stress-controlled walls
   bool warned_overlap_ = false;
   bool warned_unconverged_ = false;
 };
@@ -136,8 +139,25 @@ void Runner<D>::start_stage() {
   for (const auto& [name, vel] : st.wall_velocity)
     for (std::size_t k : walls_named(world_, name))
       world_.walls[k].velocity = Space<D>::from_array(vel);
+
   progress_.message(fmt::format("stage {} '{}' begins at step {} (t = {:.6g} s, dt = {:.4g} s)",
                                 pos_.stage + 1, st.name, world_.step, world_.time, world_.dt));
+}
+
+// The stage's stress-controlled walls; also when resuming in the middle of a stage.
+template <int D>
+void Runner<D>::load_servo_targets() {
+  servo_.clear();
+  if (!cfg_.stages[pos_.stage].wall_stress.empty() && cfg_.sim.solver == "cd")
+    throw InputError(fmt::format(
+        "{}: stage '{}': stress-controlled walls (wall_stress) need simulation.solver = \"dem\" "
+        "for now: with rigid grains a wall must be driven by a force, not a velocity",
+        cfg_.path, cfg_.stages[pos_.stage].name));
+  for (const auto& [name, stress] : cfg_.stages[pos_.stage].wall_stress)
+    for (std::size_t k : walls_named(world_, name)) {
+      wall_area(world_, k);  // checks the wall can be stress-controlled (InputError if not)
+      servo_.push_back({k, stress});
+    }
 }
 
 template <int D>
@@ -146,13 +166,17 @@ bool Runner<D>::stage_done() {
   if (st.steps) return pos_.stage_step >= *st.steps;
   // Never at the stage's first step: grains placed at rest would end a settling stage at once.
   if (pos_.stage_step > 0 && pos_.stage_step % st.check_interval == 0 &&
-      kinetic_energy(world_) < *st.kinetic_energy_below)
+      kinetic_energy(world_) < *st.kinetic_energy_below &&
+      (!st.stress_tolerance || servo_error(world_, servo_) <= *st.stress_tolerance))
     return true;
   if (pos_.stage_step >= st.max_steps) {
     progress_.message(fmt::format(
-        "warning: stage '{}' reached max_steps = {} with kinetic energy {:.4g} J, still above "
-        "kinetic_energy_below = {:.4g} J",
-        st.name, st.max_steps, kinetic_energy(world_), *st.kinetic_energy_below));
+        "warning: stage '{}' reached max_steps = {} before equilibrium: kinetic energy {:.4g} J "
+        "(kinetic_energy_below = {:.4g} J){}",
+        st.name, st.max_steps, kinetic_energy(world_), *st.kinetic_energy_below,
+        st.stress_tolerance ? fmt::format(", wall stress error {:.3g} (stress_tolerance = {:.3g})",
+                                          servo_error(world_, servo_), *st.stress_tolerance)
+                            : std::string()));
     return true;
   }
   return false;
@@ -255,8 +279,13 @@ RunResult Runner<D>::run() {
   try {
     for (; pos_.stage < cfg_.stages.size(); ++pos_.stage, pos_.stage_step = 0) {
       if (pos_.stage_step == 0) start_stage();
+      load_servo_targets();
       const StageClock clock(world_.step, solver_->timers());
       while (!stage_done()) {
+        if (!servo_.empty()) {
+          const StageConfig& st = cfg_.stages[pos_.stage];
+          servo_walls(world_, servo_, ServoSettings{st.servo_gain, st.servo_max_velocity});
+        }
         solver_->step();
         ++pos_.stage_step;
         after_step();

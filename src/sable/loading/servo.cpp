@@ -1,0 +1,122 @@
+#include "sable/loading/servo.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "sable/core/error.hpp"
+
+namespace sable {
+
+namespace {
+
+// The axis a plane wall faces, or -1 when it is tilted.
+template <int D>
+int wall_axis(const Wall<D>& wall) {
+  for (int d = 0; d < D; ++d)
+    if (std::abs(std::abs(wall.normal[d]) - 1.0) < 1e-12) return d;
+  return -1;
+}
+
+// The sample's extent along `axis`: between the facing plane walls there, else the domain.
+template <int D>
+double extent(const World<D>& w, int axis) {
+  double lo = w.neighbors.domain_lo[axis], hi = w.neighbors.domain_hi[axis];
+  bool has_lo = false, has_hi = false;
+  for (const auto& wall : w.walls) {
+    if (wall.kind != WallKind::kPlane || wall_axis(wall) != axis) continue;
+    if (wall.normal[axis] > 0.0) {
+      lo = has_lo ? std::max(lo, wall.point[axis]) : wall.point[axis];
+      has_lo = true;
+    } else {
+      hi = has_hi ? std::min(hi, wall.point[axis]) : wall.point[axis];
+      has_hi = true;
+    }
+  }
+  return std::max(hi - lo, 0.0);
+}
+
+}  // namespace
+
+template <int D>
+double wall_area(const World<D>& w, std::size_t k) {
+  const Wall<D>& wall = w.walls[k];
+  const int axis = wall.kind == WallKind::kPlane ? wall_axis(wall) : -1;
+  if (axis < 0)
+    throw InputError(fmt::format(
+        "wall '{}': stress control needs a plane wall facing a coordinate axis", wall.name));
+  double area = D == 2 ? w.thickness : 1.0;
+  for (int d = 0; d < D; ++d)
+    if (d != axis) area *= extent(w, d);
+  return area;
+}
+
+template <int D>
+double wall_normal_stress(const World<D>& w, std::size_t k) {
+  return -w.walls[k].force.dot(w.walls[k].normal) / wall_area(w, k);
+}
+
+template <int D>
+WallResponse wall_response(const World<D>& w, std::size_t k) {
+  const auto& p = w.particles;
+  const auto& wl = w.neighbors.wall_pairs;
+  const Wall<D>& wall = w.walls[k];
+  WallResponse r;
+  for (std::size_t c = 0; c < wl.size(); ++c) {
+    if (wl.wall[c] != k) continue;
+    const std::uint32_t i = wl.i[c];
+    typename Space<D>::Vec n;
+    const double delta = p.radius[i] - wall.distance(p.x[i], n);
+    if (delta <= 0.0) continue;
+    const PairParams& pp = w.materials.pair(p.material[i], wall.material);
+    // Tangent stiffness dF/d(delta): Hertz F = 4/3 Y* sqrt(R) delta^1.5 gives 2 Y* sqrt(R delta)
+    // = 1.5 times the secant kn; the linear law's is kn. Damping: the dashpot coefficient.
+    const NormalCoeffs c_ = w.model.normal == NormalModel::kHertz
+                                ? HertzNormal::coeffs(pp, w.model, delta, p.radius[i], p.mass[i])
+                                : LinearNormal::coeffs(pp, w.model, delta, p.radius[i], p.mass[i]);
+    r.stiffness += w.model.normal == NormalModel::kHertz ? 1.5 * c_.kn : c_.kn;
+    r.damping += std::abs(c_.gn);
+  }
+  return r;
+}
+
+template <int D>
+void servo_walls(World<D>& w, const std::vector<ServoTarget>& targets, const ServoSettings& s) {
+  double gain = s.gain;
+  if (gain <= 0.0) {
+    double top = 0.0;
+    for (const auto& t : targets) top = std::max(top, t.stress);
+    gain = top > 0.0 ? s.max_velocity / top : 0.0;
+  }
+  for (const auto& t : targets) {
+    const double area = wall_area(w, t.wall);
+    const double error = -w.walls[t.wall].force.dot(w.walls[t.wall].normal) / area - t.stress;
+    const WallResponse r = wall_response(w, t.wall);
+    const double resist = r.stiffness * w.dt + r.damping;
+    const double g = resist > 0.0 ? std::min(gain, 0.5 * area / resist) : gain;
+    const double speed = std::clamp(g * error, -s.max_velocity, s.max_velocity);
+    w.walls[t.wall].velocity = -speed * w.walls[t.wall].normal;
+  }
+}
+
+template <int D>
+double servo_error(const World<D>& w, const std::vector<ServoTarget>& targets) {
+  double worst = 0.0;
+  for (const auto& t : targets)
+    worst = std::max(
+        worst, std::abs(wall_normal_stress(w, t.wall) - t.stress) / std::max(t.stress, 1e-300));
+  return worst;
+}
+
+#define SABLE_SERVO(D)                                                                         \
+  template double wall_area(const World<D>&, std::size_t);                                     \
+  template double wall_normal_stress(const World<D>&, std::size_t);                            \
+  template WallResponse wall_response(const World<D>&, std::size_t);                           \
+  template void servo_walls(World<D>&, const std::vector<ServoTarget>&, const ServoSettings&); \
+  template double servo_error(const World<D>&, const std::vector<ServoTarget>&);
+SABLE_SERVO(2)
+SABLE_SERVO(3)
+#undef SABLE_SERVO
+
+}  // namespace sable
