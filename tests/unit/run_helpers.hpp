@@ -1,6 +1,11 @@
 // Running a scenario text through the runner, quietly, for end-to-end tests.
 #pragma once
 
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 
@@ -25,6 +30,41 @@ inline RunResult run_text(const std::string& text, const QuietRun& how = {}) {
   opt.write_outputs = how.outputs;
   opt.threads = how.threads;
   return run_scenario(cfg, opt);
+}
+
+// Run the `sable` executable with `args`, its stdout and stderr into `log`; returns its exit
+// status and puts what it printed in `output`.
+inline int run_cli(const std::string& args, const std::filesystem::path& log, std::string& output) {
+  const std::string cmd = std::string(SABLE_CLI) + " " + args + " > " + log.string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream f(log);
+  std::stringstream s;
+  s << f.rdbuf();
+  output = s.str();
+  return WEXITSTATUS(status);
+}
+
+// 120 disks poured into a 2D box, a "fall" stage then a "settle" stage, by DEM or by CD
+// (snapshots at the end of each stage under `out`): a small flowing then settled packing.
+inline std::string small_pour_2d(const std::string& out, const std::string& solver) {
+  std::ostringstream s;
+  const bool cd = solver == "cd";
+  s << "[simulation]\ndimension = 2\nseed = 5\nsolver = \"" << solver << "\"\n"
+    << (cd ? "dt = 2e-4\n" : "") << "gravity = [0, -9.81]\nthickness = 0.002\n"
+    << "[domain]\nlo = [0, 0]\nhi = [0.03, 0.04]\n"
+    << "[[material]]\nname = \"g\"\ndensity = 2500.0\nyoung = 5e6\npoisson = 0.45\n"
+    << "restitution = 0.3\nfriction = 0.4\n"
+    << (cd ? "[cd]\nsweep = \"shuffled\"\ntolerance = 1e-5\nmax_iterations = 500\n" : "")
+    << "[[grains]]\ngenerator = \"random\"\nmaterial = \"g\"\n"
+    << "radius = { distribution = \"uniform\", mean = 1e-3, spread = 0.2 }\n"
+    << "region = { box = { lo = [0, 0], hi = [0.03, 0.04] } }\ncount = 120\n"
+    << "[[wall]]\nname = \"box\"\ntype = \"box\"\nmaterial = \"g\"\nlo = [0, 0]\n"
+    << "hi = [0.03, 0.04]\n"
+    << "[[stage]]\nname = \"fall\"\nsteps = " << (cd ? 150 : 600) << "\n"
+    << "[[stage]]\nname = \"settle\"\nsteps = " << (cd ? 600 : 12000) << "\n"
+    << "[output]\ndir = \"" << out << "\"\ncsv_interval = 0\nsnapshot_interval = 0\n"
+    << "vtk_interval = 0\nlog_interval = 0\n";
+  return s.str();
 }
 
 }  // namespace sable::test

@@ -109,27 +109,6 @@ TEST(AnalysisStress, ParticleStressOfASqueezedGrain) {
   EXPECT_NEAR(ps.sigma[0](1, 1), 0.0, 1e-15);
 }
 
-std::string pour_2d(const std::string& out, const std::string& solver) {
-  std::ostringstream s;
-  const bool cd = solver == "cd";
-  s << "[simulation]\ndimension = 2\nseed = 5\nsolver = \"" << solver << "\"\n"
-    << (cd ? "dt = 2e-4\n" : "") << "gravity = [0, -9.81]\nthickness = 0.002\n"
-    << "[domain]\nlo = [0, 0]\nhi = [0.03, 0.04]\n"
-    << "[[material]]\nname = \"g\"\ndensity = 2500.0\nyoung = 5e6\npoisson = 0.45\n"
-    << "restitution = 0.3\nfriction = 0.4\n"
-    << (cd ? "[cd]\nsweep = \"shuffled\"\ntolerance = 1e-5\nmax_iterations = 500\n" : "")
-    << "[[grains]]\ngenerator = \"random\"\nmaterial = \"g\"\n"
-    << "radius = { distribution = \"uniform\", mean = 1e-3, spread = 0.2 }\n"
-    << "region = { box = { lo = [0, 0], hi = [0.03, 0.04] } }\ncount = 120\n"
-    << "[[wall]]\nname = \"box\"\ntype = \"box\"\nmaterial = \"g\"\nlo = [0, 0]\n"
-    << "hi = [0.03, 0.04]\n"
-    << "[[stage]]\nname = \"fall\"\nsteps = " << (cd ? 150 : 600) << "\n"
-    << "[[stage]]\nname = \"settle\"\nsteps = " << (cd ? 600 : 12000) << "\n"
-    << "[output]\ndir = \"" << out << "\"\ncsv_interval = 0\nsnapshot_interval = 0\n"
-    << "vtk_interval = 0\nlog_interval = 0\n";
-  return s.str();
-}
-
 // Wall profile on hand-made contacts: two bins, known forces -> stresses by hand.
 TEST(AnalysisStress, WallProfileByHand) {
   Sample<2> s;
@@ -278,7 +257,7 @@ TEST(AnalysisStress, BadInputIsRefusedClearly) {
   std::ofstream(foreign) << "this is not HDF5\n";
   EXPECT_NE(message([&] { load_sample<3>(foreign); }).find("foreign.h5"), std::string::npos);
   // A real snapshot, truncated to half its size.
-  sable::test::run_text(pour_2d((dir / "run").string(), "dem"));
+  sable::test::run_text(sable::test::small_pour_2d((dir / "run").string(), "dem"));
   const fs::path snap = dir / "run" / "snapshots" / "end_of_stage_1.h5";
   EXPECT_NE(message([&] { load_sample<3>(snap.string()); }).find("2D snapshot"), std::string::npos);
   const fs::path cut = dir / "cut.h5";

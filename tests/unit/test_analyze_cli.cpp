@@ -23,16 +23,6 @@ fs::path temp_dir(const std::string& name) {
   return p;
 }
 
-int sable_cli(const std::string& args, const fs::path& log, std::string& output) {
-  const std::string cmd = std::string(SABLE_CLI) + " " + args + " > " + log.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  std::ifstream f(log);
-  std::stringstream s;
-  s << f.rdbuf();
-  output = s.str();
-  return WEXITSTATUS(status);
-}
-
 std::string read(const fs::path& p) {
   std::ifstream f(p);
   std::stringstream s;
@@ -71,7 +61,7 @@ TEST(AnalyzeCli, EveryAnalysisWritesNumbersAndFigures) {
     const fs::path snap = dir / "run" / "snapshots" / "end_of_stage_1.h5";
     const auto before = read(snap);
     std::string out;
-    const int rc = sable_cli(
+    const int rc = sable::test::run_cli(
         "analyze " + snap.string() + " --out " + (dir / "an").string() + " --grid 3x3x6 --plot",
         dir / "log.txt", out);
     ASSERT_EQ(rc, 0) << out;
@@ -106,9 +96,9 @@ TEST(AnalyzeCli, EveryAnalysisWritesNumbersAndFigures) {
     EXPECT_EQ(read(snap), before);  // the analysed snapshot is untouched
     // Several snapshots: averaged, with a per-snapshot series.
     const std::string all = (dir / "run" / "snapshots" / "step_*.h5").string();
-    ASSERT_EQ(sable_cli("analyze " + all + " --only stress,coordination,fields --out " +
-                            (dir / "avg").string(),
-                        dir / "log2.txt", out),
+    ASSERT_EQ(sable::test::run_cli("analyze " + all + " --only stress,coordination,fields --out " +
+                                       (dir / "avg").string(),
+                                   dir / "log2.txt", out),
               0)
         << out;
     EXPECT_TRUE(fs::exists(dir / "avg" / "series.csv"));
@@ -147,7 +137,7 @@ TEST(AnalyzeCli, BadInputNamesTheProblem) {
   for (const auto& c : cases) {
     SCOPED_TRACE(c.args);
     std::string output;
-    const int rc = sable_cli("analyze " + c.args, dir / "log.txt", output);
+    const int rc = sable::test::run_cli("analyze " + c.args, dir / "log.txt", output);
     if (c.expect.empty()) {
       EXPECT_EQ(rc, 0) << output;  // writing beside the snapshot is fine: other names
       continue;

@@ -129,15 +129,9 @@ INSTANTIATE_TEST_SUITE_P(TwoAndThreeD, RunDim, ::testing::Values(2, 3));
 // Run the CLI, capturing its exit status and its stderr+stdout. The log is named after the
 // process: ctest runs tests as parallel processes, which must not share it.
 int cli(const std::string& args, std::string& output) {
-  const fs::path log =
-      fs::temp_directory_path() / ("sable_cli_test_" + std::to_string(getpid()) + ".log");
-  const std::string cmd = std::string(SABLE_CLI) + " " + args + " > " + log.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  std::ifstream f(log);
-  std::stringstream s;
-  s << f.rdbuf();
-  output = s.str();
-  return WEXITSTATUS(status);
+  return sable::test::run_cli(
+      args, fs::temp_directory_path() / ("sable_cli_test_" + std::to_string(getpid()) + ".log"),
+      output);
 }
 
 // A bad scenario: exit status 2 and a message with file:line:column and the key.

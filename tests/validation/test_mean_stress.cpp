@@ -22,27 +22,6 @@ fs::path temp_dir(const std::string& name) {
   return p;
 }
 
-std::string pour_2d(const std::string& out, const std::string& solver) {
-  std::ostringstream s;
-  const bool cd = solver == "cd";
-  s << "[simulation]\ndimension = 2\nseed = 5\nsolver = \"" << solver << "\"\n"
-    << (cd ? "dt = 2e-4\n" : "") << "gravity = [0, -9.81]\nthickness = 0.002\n"
-    << "[domain]\nlo = [0, 0]\nhi = [0.03, 0.04]\n"
-    << "[[material]]\nname = \"g\"\ndensity = 2500.0\nyoung = 5e6\npoisson = 0.45\n"
-    << "restitution = 0.3\nfriction = 0.4\n"
-    << (cd ? "[cd]\nsweep = \"shuffled\"\ntolerance = 1e-5\nmax_iterations = 500\n" : "")
-    << "[[grains]]\ngenerator = \"random\"\nmaterial = \"g\"\n"
-    << "radius = { distribution = \"uniform\", mean = 1e-3, spread = 0.2 }\n"
-    << "region = { box = { lo = [0, 0], hi = [0.03, 0.04] } }\ncount = 120\n"
-    << "[[wall]]\nname = \"box\"\ntype = \"box\"\nmaterial = \"g\"\nlo = [0, 0]\n"
-    << "hi = [0.03, 0.04]\n"
-    << "[[stage]]\nname = \"fall\"\nsteps = " << (cd ? 150 : 600) << "\n"
-    << "[[stage]]\nname = \"settle\"\nsteps = " << (cd ? 600 : 12000) << "\n"
-    << "[output]\ndir = \"" << out << "\"\ncsv_interval = 0\nsnapshot_interval = 0\n"
-    << "vtk_interval = 0\nlog_interval = 0\n";
-  return s.str();
-}
-
 // Dumont-Fortin-Ouafik eq. 16: with the gravity and inertia terms the mean stress is
 // symmetric (each grain obeys m a = sum f + m g and I alpha = torque), in a flowing packing
 // (end of the fall stage: grains still moving) and a settled one; the contact part alone is
@@ -52,7 +31,7 @@ std::string pour_2d(const std::string& out, const std::string& solver) {
 TEST(AnalysisStress, MeanStressWithBodyForcesIsSymmetric) {
   for (const std::string solver : {"dem", "cd"}) {
     const fs::path dir = temp_dir("mean_" + solver);
-    sable::test::run_text(pour_2d(dir.string(), solver));
+    sable::test::run_text(sable::test::small_pour_2d(dir.string(), solver));
     for (const char* stage : {"end_of_stage_1.h5", "end_of_stage_2.h5"}) {
       SCOPED_TRACE(solver + " " + stage);
       const Sample<2> s = load_sample<2>((dir / "snapshots" / stage).string());
@@ -69,7 +48,7 @@ TEST(AnalysisStress, MeanStressWithBodyForcesIsSymmetric) {
 // x0 terms cancel grain by grain), while the contact part alone does.
 TEST(AnalysisStress, MeanStressIsIndependentOfTheReferencePoint) {
   const fs::path dir = temp_dir("origin");
-  sable::test::run_text(pour_2d(dir.string(), "dem"));
+  sable::test::run_text(sable::test::small_pour_2d(dir.string(), "dem"));
   const Sample<2> s = load_sample<2>((dir / "snapshots" / "end_of_stage_1.h5").string());
   const Region<2> box = grain_bounds(s);
   const MeanStress<2> ma = mean_stress(s, box), mb = mean_stress(s, box, {0.5, -0.25});
