@@ -260,17 +260,28 @@ Summary summary(const ForceStats& s) {
   return out;
 }
 
+namespace {
+
+// The lower edge, upper edge and centre columns of `n` bins of `width` from 0, named
+// NAME_lo, NAME_hi and NAME (NAME may carry a unit suffix after them, e.g. "_deg").
+void add_bins(Table& t, const std::string& name, const std::string& unit, std::size_t n,
+              double width) {
+  std::vector<double> lo, hi, mid;
+  for (std::size_t b = 0; b < n; ++b) {
+    lo.push_back(static_cast<double>(b) * width);
+    hi.push_back(static_cast<double>(b + 1) * width);
+    mid.push_back((static_cast<double>(b) + 0.5) * width);
+  }
+  t.add(name + "_lo" + unit, lo);
+  t.add(name + "_hi" + unit, hi);
+  t.add(name + unit, mid);
+}
+
+}  // namespace
+
 Table table(const ForceDistribution& d) {
   Table t;
-  std::vector<double> lo, hi, mid;
-  for (std::size_t b = 0; b < d.counts.size(); ++b) {
-    lo.push_back(static_cast<double>(b) * d.bin_width);
-    hi.push_back(static_cast<double>(b + 1) * d.bin_width);
-    mid.push_back((static_cast<double>(b) + 0.5) * d.bin_width);
-  }
-  t.add(d.variable + "_lo", lo);
-  t.add(d.variable + "_hi", hi);
-  t.add(d.variable, mid);
+  add_bins(t, d.variable, "", d.counts.size(), d.bin_width);
   t.add("count", d.counts);
   t.add("pdf", d.pdf);
   return t;
@@ -279,15 +290,6 @@ Table table(const ForceDistribution& d) {
 // ---------------------------------------------------------------- coordination
 
 namespace {
-
-template <int D>
-void check_contact_indices(const Sample<D>& s) {
-  const auto& c = s.contacts;
-  for (std::size_t k = 0; k < c.size(); ++k)
-    if (c.i[k] >= s.size() || (!c.is_wall(k) && c.j[k] >= s.size()))
-      throw InputError(fmt::format("{}: contact {} names grain {} or {}, the sample holds {}",
-                                   s.source, k, c.i[k], c.j[k], s.size()));
-}
 
 // Marks rattlers: fewer than `threshold` force-carrying contacts (wall contacts count). When
 // iterating, contacts with grains already marked no longer count, until nothing changes.
@@ -521,16 +523,8 @@ Table table(const Fabric& f) {
 Table azimuth_table(const Fabric& f) {
   Table t;
   if (f.azimuth_counts.empty()) return t;
-  const double w = 180.0 / static_cast<double>(f.azimuth_counts.size());
-  std::vector<double> lo, hi, mid;
-  for (std::size_t b = 0; b < f.azimuth_counts.size(); ++b) {
-    lo.push_back(static_cast<double>(b) * w);
-    hi.push_back(static_cast<double>(b + 1) * w);
-    mid.push_back((static_cast<double>(b) + 0.5) * w);
-  }
-  t.add("azimuth_lo_deg", lo);
-  t.add("azimuth_hi_deg", hi);
-  t.add("azimuth_deg", mid);
+  add_bins(t, "azimuth", "_deg", f.azimuth_counts.size(),
+           180.0 / static_cast<double>(f.azimuth_counts.size()));
   t.add("count", f.azimuth_counts);
   t.add("pdf_per_rad", f.azimuth_density);
   return t;
@@ -596,17 +590,8 @@ Summary summary(const Polarization& p) {
 }
 
 Table table(const Polarization& p) {
-  const double w = 1.0 / static_cast<double>(p.counts.size());
-  std::vector<double> lo, hi, mid;
-  for (std::size_t b = 0; b < p.counts.size(); ++b) {
-    lo.push_back(static_cast<double>(b) * w);
-    hi.push_back(static_cast<double>(b + 1) * w);
-    mid.push_back((static_cast<double>(b) + 0.5) * w);
-  }
   Table t;
-  t.add("m_lo", lo);
-  t.add("m_hi", hi);
-  t.add("m", mid);
+  add_bins(t, "m", "", p.counts.size(), 1.0 / static_cast<double>(p.counts.size()));
   t.add("count", p.counts);
   t.add("pdf", p.pdf);
   return t;

@@ -53,11 +53,7 @@ void check_input(const Sample<D>& s, const std::vector<double>& value,
     if (e[0] >= s.size() || e[1] >= s.size())
       throw InputError(fmt::format("percolation: extra edge ({}, {}) names a grain past the {}",
                                    e[0], e[1], s.size()));
-  const auto& c = s.contacts;
-  for (std::size_t k = 0; k < c.size(); ++k)
-    if (c.i[k] >= s.size() || (!c.is_wall(k) && c.j[k] >= s.size()))
-      throw InputError(fmt::format("{}: contact {} names grain {} or {}, the sample holds {}",
-                                   s.source, k, c.i[k], c.j[k], s.size()));
+  check_contact_indices(s);
 }
 
 // The clusters of one phase (sign), given the union-find over all same-phase edges.

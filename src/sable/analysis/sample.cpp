@@ -160,6 +160,15 @@ Sample<D> make_sample(const World<D>& w, ForceGeometry geometry) {
   return s;
 }
 
+template <int D>
+void check_contact_indices(const Sample<D>& s) {
+  const auto& c = s.contacts;
+  for (std::size_t k = 0; k < c.size(); ++k)
+    if (c.i[k] >= s.size() || (!c.is_wall(k) && c.j[k] >= s.size()))
+      throw InputError(fmt::format("{}: contact {} names grain {} or {}, the sample holds {}",
+                                   s.source, k, c.i[k], c.j[k], s.size()));
+}
+
 int snapshot_dimension(const std::string& path) {
   return read_snapshot_info(path).dimension;
 }
@@ -219,6 +228,8 @@ template Sample<2> make_sample(const World<2>&, ForceGeometry);
 template Sample<3> make_sample(const World<3>&, ForceGeometry);
 template Sample<2> load_sample(const std::string&);
 template Sample<3> load_sample(const std::string&);
+template void check_contact_indices(const Sample<2>&);
+template void check_contact_indices(const Sample<3>&);
 template Region<2> grain_bounds(const Sample<2>&);
 template Region<3> grain_bounds(const Sample<3>&);
 

@@ -111,6 +111,11 @@ Sample<D> make_sample(const World<D>& world, ForceGeometry geometry = ForceGeome
 template <int D>
 Sample<D> load_sample(const std::string& snapshot_path);
 
+// Throws InputError (naming s.source) if a contact names a grain the sample does not hold:
+// analyses that index grains by contact call it once before they start.
+template <int D>
+void check_contact_indices(const Sample<D>& s);
+
 // The dimension of a snapshot (2 or 3), read from its header.
 int snapshot_dimension(const std::string& snapshot_path);
 
