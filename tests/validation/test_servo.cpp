@@ -10,6 +10,7 @@
 #include "sable/io/snapshot.hpp"
 #include "sable/loading/servo.hpp"
 #include "sable/scenario/build.hpp"
+#include "servo_helpers.hpp"
 
 namespace fs = std::filesystem;
 using namespace sable;
@@ -18,26 +19,12 @@ namespace {
 
 std::string compaction(int dim, const std::string& out, double pressure,
                        const std::string& extra_stage_keys = "") {
-  const bool three = dim == 3;
-  const std::string lo = three ? "[0, 0, 0]" : "[0, 0]";
-  const std::string hi = three ? "[0.02, 0.02, 0.02]" : "[0.04, 0.04]";
-  std::ostringstream s;
-  s << "[simulation]\ndimension = " << dim << "\nseed = 3\n"
-    << (three ? "" : "thickness = 0.002\n") << "[domain]\nlo = " << lo << "\nhi = " << hi
-    << "\n[[material]]\nname = \"g\"\ndensity = 2500.0\nyoung = 1e8\npoisson = 0.3\n"
-    << "restitution = 0.3\nfriction = 0.3\n"
-    << "[[grains]]\ngenerator = \"random\"\nmaterial = \"g\"\n"
-    << "radius = { distribution = \"uniform\", mean = 1e-3, spread = 0.2 }\n"
-    << "region = { box = { lo = " << lo << ", hi = " << hi
-    << " } }\ncount = " << (three ? 250 : 200)
-    << "\n[[wall]]\nname = \"box\"\ntype = \"box\"\nmaterial = \"g\"\n"
-    << "lo = " << lo << "\nhi = " << hi << "\n[[stage]]\nname = \"compact\"\n"
-    << "wall_stress = { box = " << pressure << " }\nservo_max_velocity = 0.05\n"
-    << "kinetic_energy_below = 1e-8\nstress_tolerance = 0.01\nmax_steps = 400000\n"
-    << "check_interval = 500\n"
-    << extra_stage_keys << "[output]\ndir = \"" << out
-    << "\"\ncsv_interval = 0\nlog_interval = 0\n";
-  return s.str();
+  sable::test::Compaction c;
+  c.dim = dim;
+  c.out = out;
+  c.pressure = pressure;
+  c.extra_stage_keys = extra_stage_keys;
+  return sable::test::compaction_text(c);
 }
 
 // Every wall of the box ends within 2 % of the target pressure (the issue's bound; the stage
@@ -51,24 +38,10 @@ TEST(ServoWalls, IsotropicCompactionReachesThePressure) {
     const std::string text = compaction(dim, dir.string(), 1000.0);
     const auto r = sable::test::run_text(text);
     EXPECT_LT(r.steps, 400000u) << "equilibrium not reached";
-    const ScenarioConfig cfg = parse_scenario(text, "test.toml");
-    auto check = [&](auto& w) {
-      build_model(cfg, w);
-      load_snapshot((dir / "snapshots" / "end_of_stage_1.h5").string(), w);
-      ASSERT_EQ(w.walls.size(), static_cast<std::size_t>(2 * dim));
-      for (std::size_t k = 0; k < w.walls.size(); ++k) {
-        EXPECT_NEAR(wall_normal_stress(w, k), 1000.0, 20.0) << w.walls[k].name;
-        EXPECT_GT(wall_area(w, k), 0.0);
-      }
-      EXPECT_LT(wall_area(w, 0), (dim == 3 ? 0.02 * 0.02 : 0.04 * 0.002) * 0.9);
-    };
-    if (dim == 2) {
-      World<2> w;
-      check(w);
-    } else {
-      World<3> w;
-      check(w);
-    }
+    if (dim == 2)
+      sable::test::expect_compacted<2>(text, dir, 1000.0, 0.02, 0.04);
+    else
+      sable::test::expect_compacted<3>(text, dir, 1000.0, 0.02, 0.02);
     fs::remove_all(dir);
   }
 }
@@ -140,7 +113,8 @@ TEST(ServoWalls, TriaxialKeepsTheLateralStress) {
 }
 
 // Scenario errors: an unknown wall, a missing speed limit, "until equilibrium" without a
-// kinetic-energy bound, and contact dynamics (not supported yet) each stop with a message.
+// kinetic-energy bound, and a key of the other solver's stress control (DEM's servo_gain with
+// contact dynamics, CD's servo_wall_mass with DEM) each stop with a message.
 TEST(ServoWalls, BadScenariosAreRefused) {
   auto message = [](const std::string& text) {
     try {
@@ -159,7 +133,15 @@ TEST(ServoWalls, BadScenariosAreRefused) {
   EXPECT_NE(message(bad).find("servo_max_velocity"), std::string::npos);
   bad = t;
   bad.replace(bad.find("[simulation]\n"), 13, "[simulation]\nsolver = \"cd\"\ndt = 1e-4\n");
-  EXPECT_NE(message(bad).find("need simulation.solver = \"dem\""), std::string::npos);
+  bad.replace(bad.find("servo_max_velocity"), 0, "servo_gain = 1e-4\n");
+  EXPECT_NE(message(bad).find("servo_gain does not apply with simulation.solver = \"cd\""),
+            std::string::npos)
+      << message(bad);
+  bad = t;
+  bad.replace(bad.find("servo_max_velocity"), 0, "servo_wall_mass = 0.01\n");
+  EXPECT_NE(message(bad).find("servo_wall_mass does not apply with simulation.solver = \"dem\""),
+            std::string::npos)
+      << message(bad);
   bad = t;
   bad.replace(bad.find("kinetic_energy_below = 1e-8\n"), 28, "steps = 10\n");
   bad.replace(bad.find("max_steps = 400000\n"), 19, "");

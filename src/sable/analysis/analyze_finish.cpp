@@ -81,7 +81,9 @@ void AnalysisParts<D>::finish_forces() {
       o.component = comp;
       const char* name = comp == ForceComponent::normal ? "normal" : "tangential";
       attempt(both, name, [&] {
-        const ForceStats st = force_statistics(all_, o);
+        // With --region: the grain-grain contacts whose point lies in it (away from walls);
+        // without: every contact, walls included.
+        const ForceStats st = force_statistics(region_ ? bulk_ : all_, o);
         both.add(name, summary(st));
         for (const auto& side : st.sides)
           if (side.count > 0) out_.write(fmt::format("force_pdf_{}.csv", side.side), table(side));

@@ -1,19 +1,23 @@
 #include "sable/cd/cd_solver.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 
+#include "sable/core/error.hpp"
 #include "sable/world/guards.hpp"
 
 namespace sable {
 
 // The grain problem seen by NLGS: U_a = frame_a^T (relative velocity at the contact point),
-// computed from the grains' current velocities, which apply() keeps consistent with the
-// impulses. Nothing is assembled beyond the diagonal blocks: memory O(contacts).
+// computed from the grains' and walls' current velocities, which apply() keeps consistent with
+// the impulses. Nothing is assembled beyond the diagonal blocks: memory O(contacts).
 template <int D>
 class CdSolver<D>::Problem {
  public:
-  Problem(Contacts& c, ParticleStore<D>& p, const std::vector<Wall<D>>& walls, double h)
-      : c_(c), p_(p), walls_(walls), inv_h_(1.0 / h) {}
+  Problem(Contacts& c, ParticleStore<D>& p, std::vector<Wall<D>>& walls, std::vector<WallDof>& dofs,
+          double h)
+      : c_(c), p_(p), walls_(walls), dofs_(dofs), inv_h_(1.0 / h) {}
   std::size_t size() const { return c_.size(); }
   const LMat& W(std::size_t a) const { return c_.w[a]; }
   double mu(std::size_t a) const { return c_.mu[a]; }
@@ -45,13 +49,23 @@ class CdSolver<D>::Problem {
     if (!c_.wall[a]) {
       p_.v[j] -= p_.inv_mass[j] * impulse;
       p_.w[j] -= p_.inv_inertia[j] * S::moment(c_.arm_j[a], impulse);
+    } else if (j < dofs_.size() && dofs_[j].inv_mass > 0.0) {
+      // A wall body takes the opposite impulse along its normal (its one degree of freedom;
+      // the friction impulses, tangent to a plane wall, have no component there). The speed
+      // cap makes W_aa (which counts 1/M) inexact while the wall is held at its cap, but not
+      // the solution: a contact is solved when its local solve returns dr = 0 from the U it
+      // sees, whatever W_aa; W_aa only sets how fast the sweeps get there.
+      Wall<D>& wall = walls_[j];
+      dofs_[j].impulse -= impulse.dot(wall.normal);
+      wall.velocity = dofs_[j].speed() * wall.normal;
     }
   }
 
  private:
   Contacts& c_;
   ParticleStore<D>& p_;
-  const std::vector<Wall<D>>& walls_;
+  std::vector<Wall<D>>& walls_;
+  std::vector<WallDof>& dofs_;
   double inv_h_;
   double q_norm_ = 0.0;
 };
@@ -99,12 +113,13 @@ void CdSolver<D>::initialize() {
 }
 
 // One Moreau-Jean step:
-//   free velocity   v_free = v + h M^-1 [(1 - theta) f(t) + theta f(t + h)]  (gravity here)
+//   free velocity   v_free = v + h M^-1 [(1 - theta) f(t) + theta f(t + h)]  (gravity here;
+//                   a wall body's applied force: start_wall_bodies)
 //   contacts        every candidate of the neighbour lists, frame and Delassus block at x(t)
 //   impulses        NLGS: find r with U = W r + q satisfying Signorini-Coulomb, where the
 //                   normal velocity is U_N + max(gap, 0) / h (a grain may close an open gap
 //                   within the step, never cross it), warm-started from the last step
-//   positions       x(t + h) = x(t) + h v(t + h), from the new velocities
+//   positions       x(t + h) = x(t) + h v(t + h), from the new velocities (walls alike)
 template <int D>
 void CdSolver<D>::step() {
   using S = Space<D>;
@@ -115,6 +130,7 @@ void CdSolver<D>::step() {
     // Gravity is constant, so the theta weighting of smooth forces leaves h g.
     for (std::size_t k = 0; k < p.size(); ++k)
       if (p.inv_mass[k] != 0.0) p.v[k] += h * w_.gravity;
+    start_wall_bodies();
   }
   {
     auto scope = timers_.time(Phase::kNeighbors);
@@ -128,7 +144,7 @@ void CdSolver<D>::step() {
   }
   {
     auto scope = timers_.time(Phase::kSolve);
-    Problem problem(c_, p, w_.walls, h);
+    Problem problem(c_, p, w_.walls, dofs_, h);
     double q2 = 0.0;
     for (std::size_t a = 0; a < c_.size(); ++a) q2 += problem.velocity(a).squaredNorm();
     problem.set_q_norm(std::sqrt(q2));
@@ -159,6 +175,35 @@ void CdSolver<D>::step() {
 }
 
 template <int D>
+void CdSolver<D>::set_wall_bodies(const std::vector<WallBody>& bodies) {
+  dofs_.assign(bodies.empty() ? 0 : w_.walls.size(), WallDof{});
+  for (const WallBody& b : bodies) {
+    if (b.wall >= w_.walls.size() || w_.walls[b.wall].kind != WallKind::kPlane || !(b.mass > 0.0))
+      throw InputError(fmt::format(
+          "wall body {}: a plane wall with a mass > 0 is needed (mass {} kg)", b.wall, b.mass));
+    WallDof& d = dofs_[b.wall];
+    d.inv_mass = 1.0 / b.mass;
+    d.force = b.force;
+    if (b.max_speed > 0.0) d.max_speed = b.max_speed;
+  }
+}
+
+// The free velocity of each wall body, u(t) + h F / M (a constant force: theta drops out; the
+// wall is weightless, so F alone sets its stress), and its velocity before any impulse. Only
+// the normal component of a body's velocity survives: that is its degree of freedom.
+template <int D>
+void CdSolver<D>::start_wall_bodies() {
+  for (std::size_t k = 0; k < dofs_.size(); ++k) {
+    WallDof& d = dofs_[k];
+    if (d.inv_mass == 0.0) continue;
+    Wall<D>& wall = w_.walls[k];
+    d.free_speed = wall.velocity.dot(wall.normal) + w_.dt * d.force * d.inv_mass;
+    d.impulse = 0.0;
+    wall.velocity = d.speed() * wall.normal;
+  }
+}
+
+template <int D>
 double CdSolver<D>::max_speed() const {
   const auto& p = w_.particles;
   double vmax = 0.0;
@@ -183,6 +228,12 @@ void CdSolver<D>::add_contact(std::uint32_t i, std::uint32_t partner, std::uint3
     if constexpr (!kWall)
       dv += p.inv_mass[partner] * P +
             S::spin_velocity(p.inv_inertia[partner] * S::moment(arm_j, P), arm_j);
+    if constexpr (kWall) {
+      if (is_body(partner)) {  // a wall body recoils along its normal only
+        const Vec& nw = w_.walls[partner].normal;
+        dv += dofs_[partner].inv_mass * nw.dot(P) * nw;
+      }
+    }
     w.col(c) = frame.transpose() * dv;
   }
   c_.i.push_back(i);
@@ -228,7 +279,11 @@ void CdSolver<D>::build_contacts() {
     const Wall<D>& wall = w_.walls[wl.wall[k]];
     Vec n;
     const double dist = wall.distance(p.x[i], n);
-    if (dist - p.radius[i] > reach + w_.dt * wall.velocity.norm()) {
+    // A wall body's speed can change during the solve, up to its cap.
+    const double wall_speed = is_body(wl.wall[k]) && std::isfinite(dofs_[wl.wall[k]].max_speed)
+                                  ? dofs_[wl.wall[k]].max_speed
+                                  : wall.velocity.norm();
+    if (dist - p.radius[i] > reach + w_.dt * wall_speed) {
       wl.force[k].setZero();
       continue;
     }

@@ -6,8 +6,17 @@
 // walls, materials and the neighbour lists, whose per-contact `force` slot holds impulse / h
 // (so outputs and analyses read CD forces exactly like DEM forces, and the impulses of
 // persisting contacts warm-start the next step and travel in snapshots).
+//
+// Stress-controlled walls are bodies here (set_wall_bodies, as in LMGC90): a plane wall with
+// one translational degree of freedom along its normal, a mass M and an applied force F. Its
+// velocity is one more unknown of the NLGS: a grain-wall contact sees the wall's 1/M along n
+// in its Delassus block and the wall's current velocity in U, and every impulse update moves
+// the wall's velocity at once (see Problem::apply). The wall then moves with its end-of-step
+// velocity. The step's only wall state is that velocity, which snapshots carry.
 #pragma once
 
+#include <algorithm>
+#include <limits>
 #include <vector>
 
 #include "sable/cd/nlgs.hpp"
@@ -37,6 +46,8 @@ class CdSolver final : public Solver {
   const PhaseTimers& timers() const override { return timers_; }
   std::vector<std::string> diagnostic_columns() const override;
   void diagnostic_values(std::vector<double>& row) const override;
+  bool moves_wall_bodies() const override { return true; }
+  void set_wall_bodies(const std::vector<WallBody>& bodies) override;
   const cd::NlgsResult& last_solve() const { return result_; }
 
   // The problem NLGS sees: one entry per candidate contact, velocities from the grains.
@@ -55,6 +66,18 @@ class CdSolver final : public Solver {
     std::size_t size() const { return i.size(); }
     void clear();
   };
+  // A wall's degree of freedom during a step (inv_mass 0: the wall's velocity is prescribed).
+  // Its speed along the normal is u = clamp(u_free + impulse / M, +-max_speed).
+  struct WallDof {
+    double inv_mass = 0.0;
+    double force = 0.0;  // N, applied along the normal (into the grains)
+    double max_speed = std::numeric_limits<double>::infinity();
+    double free_speed = 0.0;  // u(t) + h F / M
+    double impulse = 0.0;     // the contacts' impulses on the wall, along its normal
+    double speed() const {
+      return std::clamp(free_speed + inv_mass * impulse, -max_speed, max_speed);
+    }
+  };
   class Problem;
 
  private:
@@ -63,13 +86,16 @@ class CdSolver final : public Solver {
   void add_contact(std::uint32_t i, std::uint32_t partner, std::uint32_t source, const Vec& n,
                    double gap, const Vec& arm_i, const Vec& arm_j, double mu, const Vec& force);
   void store_impulses();
+  void start_wall_bodies();
   double max_speed() const;
+  bool is_body(std::size_t wall) const { return wall < dofs_.size() && dofs_[wall].inv_mass > 0.0; }
 
   World<D>& w_;
   CdSettings s_;
   StepDiagnostics diag_;
   PhaseTimers timers_;
   Contacts c_;
+  std::vector<WallDof> dofs_;  // per wall once set_wall_bodies was called, else empty
   cd::NlgsResult result_;
 };
 

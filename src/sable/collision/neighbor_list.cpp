@@ -130,6 +130,7 @@ void NeighborList<D>::build_pairs(const ParticleStore<D>& p, PairList<D>& out) {
   }
   out.shear.assign(out.size(), Vec::Zero());
   out.force.assign(out.size(), Vec::Zero());
+  if (bridges) out.bridge.assign(out.size(), PairList<D>::kNoBridge);
 }
 
 template <int D>
@@ -150,35 +151,45 @@ void NeighborList<D>::build_wall_pairs(const ParticleStore<D>& p, const std::vec
   out.force.assign(out.size(), Vec::Zero());
 }
 
-// Copy history of entries present in both sorted lists (keyed by (a, b)).
-template <class List, class KeyA, class KeyB>
-static void carry_history(const List& old_list, List& new_list, KeyA a, KeyB b) {
+// Copy history of entries present in both sorted lists (keyed by (a, b)). `skipped(o)` is
+// called for every old entry with no match in the new list, in order.
+template <class List, class KeyA, class KeyB, class Skipped>
+static void carry_history(const List& old_list, List& new_list, KeyA a, KeyB b, Skipped skipped) {
   std::size_t o = 0;
   for (std::size_t k = 0; k < new_list.size(); ++k) {
     while (o < old_list.size() &&
            (a(old_list)[o] < a(new_list)[k] ||
             (a(old_list)[o] == a(new_list)[k] && b(old_list)[o] < b(new_list)[k])))
-      ++o;
+      skipped(o++);
     if (o < old_list.size() && a(old_list)[o] == a(new_list)[k] &&
         b(old_list)[o] == b(new_list)[k]) {
       new_list.shear[k] = old_list.shear[o];
       new_list.force[k] = old_list.force[o];
+      if constexpr (requires { new_list.bridge; })
+        if (!new_list.bridge.empty()) new_list.bridge[k] = old_list.bridge[o];
+      ++o;
     }
   }
+  while (o < old_list.size()) skipped(o++);
 }
 
 template <int D>
 void NeighborList<D>::build(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls) {
   build_cells(p);
   build_pairs(p, new_pairs_);
+  const bool had_bridges = pairs.bridge.size() == pairs.size() && !pairs.bridge.empty();
   carry_history(
       pairs, new_pairs_, [](const auto& l) -> const auto& { return l.i; },
-      [](const auto& l) -> const auto& { return l.j; });
+      [](const auto& l) -> const auto& { return l.j; },
+      [&](std::size_t o) {
+        if (had_bridges && bridges && pairs.bridge[o] >= 0.0)
+          dropped_bridges.push_back({pairs.i[o], pairs.j[o], pairs.bridge[o]});
+      });
   std::swap(pairs, new_pairs_);
   build_wall_pairs(p, walls, new_wall_pairs_);
   carry_history(
       wall_pairs, new_wall_pairs_, [](const auto& l) -> const auto& { return l.i; },
-      [](const auto& l) -> const auto& { return l.wall; });
+      [](const auto& l) -> const auto& { return l.wall; }, [](std::size_t) {});
   std::swap(wall_pairs, new_wall_pairs_);
   incidence_valid_ = false;
   x_ref = p.x;

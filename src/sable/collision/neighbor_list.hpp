@@ -22,13 +22,26 @@ struct PairList {
   std::vector<std::uint32_t> i, j;  // slots, i < j
   std::vector<Vec> shear;           // tangential history (displacement)
   std::vector<Vec> force;           // last force on i (0 when not touching)
+  // Liquid-bridge volume (m^3), kNoBridge where there is none; empty unless the contact law
+  // has capillary cohesion (NeighborList::bridges), so dry runs carry nothing.
+  std::vector<double> bridge;
+  static constexpr double kNoBridge = -1.0;
   std::size_t size() const { return i.size(); }
   void clear() {
     i.clear();
     j.clear();
     shear.clear();
     force.clear();
+    bridge.clear();
   }
+};
+
+// A bridge whose pair left the list at a rebuild (its gap grew beyond the skin). With the
+// skin kept above every rupture distance this does not happen; if it does, the solver treats
+// it as a rupture so that no liquid disappears unaccounted.
+struct DroppedBridge {
+  std::uint32_t i, j;
+  double volume;
 };
 
 template <int D>
@@ -59,6 +72,8 @@ class NeighborList {
   std::vector<Vec> x_ref;     // positions at the last build
   std::vector<Vec> wall_ref;  // wall points at the last build
   std::uint64_t builds = 0;
+  bool bridges = false;                        // pairs carry a bridge volume (capillary law)
+  std::vector<DroppedBridge> dropped_bridges;  // filled by build(), consumed by the solver
 
   // Incidence of the sorted lists, derived from them (never saved): grain i is the first
   // member of pairs [first_begin[i], first_begin[i+1]), the second member of pairs

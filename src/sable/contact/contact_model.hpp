@@ -12,6 +12,7 @@
 #include <cmath>
 #include <string_view>
 
+#include "sable/contact/capillary.hpp"
 #include "sable/core/material.hpp"
 #include "sable/core/space.hpp"
 
@@ -29,6 +30,10 @@ struct ContactModel {
   bool attractive_damping = false;
   double kn = 0.0;  // linear law only (N/m)
   double kt = 0.0;  // linear law only (N/m)
+  // Cohesion, added to the normal force of grain pairs (walls are dry). Capillary bridges
+  // (contact/capillary.hpp) are DEM only, in 3D; their volumes live in the pair list.
+  CohesionModel cohesion = CohesionModel::kNone;
+  CapillaryParams capillary;
 };
 
 // The registry: every sub-model by category and name, the single source for scenario names,
@@ -47,6 +52,10 @@ inline constexpr SubModelEntry kContactSubModels[] = {
     {"tangential", "history", static_cast<int>(TangentialModel::kHistory),
      "Mindlin spring on the accumulated tangential displacement, Coulomb-capped"},
     {"tangential", "none", static_cast<int>(TangentialModel::kNone), "frictionless contact"},
+    {"cohesion", "none", static_cast<int>(CohesionModel::kNone), "dry grains"},
+    {"cohesion", "capillary", static_cast<int>(CohesionModel::kCapillary),
+     "liquid bridges, Richefeu et al. 2009 eq. 1-8: -kappa R in contact, exponential decay to "
+     "the rupture distance; formed at contact (hysteresis); DEM, 3D"},
 };
 
 // Stiffness and damping of one contact at its current overlap. Damping coefficients are
@@ -86,19 +95,21 @@ struct ContactGeometry {
 };
 
 // The force on grain i. `shear` is the contact's tangential history (a displacement); it is
-// turned into the current tangent plane, advanced by vt*dt and Coulomb-capped.
+// turned into the current tangent plane, advanced by vt*dt and Coulomb-capped. `cohesion`
+// (<= 0, N) is added to the normal force; the Coulomb cap uses the repulsive part only: the
+// attraction acts through the larger overlap it causes (Richefeu et al. 2009; Scholtes et al.
+// 2009 make the same choice).
 template <int D, class Normal>
-[[gnu::always_inline]] inline typename Space<D>::Vec contact_force(const ContactGeometry<D>& g,
-                                                                   const PairParams& p,
-                                                                   const ContactModel& model,
-                                                                   double dt,
-                                                                   typename Space<D>::Vec& shear) {
+[[gnu::always_inline]] inline typename Space<D>::Vec contact_force(
+    const ContactGeometry<D>& g, const PairParams& p, const ContactModel& model, double dt,
+    typename Space<D>::Vec& shear, double cohesion = 0.0) {
   using Vec = typename Space<D>::Vec;
   const NormalCoeffs c = Normal::coeffs(p, model, g.delta, g.r_eff, g.m_eff);
   const double vn = g.vrel.dot(g.n);
   double fn = c.kn * g.delta - c.gn * vn;
   if (!model.attractive_damping && fn < 0.0) fn = 0.0;
   Vec force = fn * g.n;
+  if (cohesion != 0.0) force += cohesion * g.n;  // a branch keeps dry results bit-identical
   if (model.tangential == TangentialModel::kNone || p.friction == 0.0) {
     shear.setZero();
     return force;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <cmath>
 
+#include "sable/contact/liquid.hpp"
 #include "sable/world/guards.hpp"
 
 namespace sable {
@@ -10,6 +11,7 @@ namespace sable {
 // Below this many grains or contacts a loop runs on one thread: waking a thread team costs
 // more than the work. The result is the same bits either way.
 constexpr std::ptrdiff_t kMinParallelItems = 2048;
+constexpr std::uint8_t kBridgeFormed = 1, kBridgeBroken = 2;
 
 namespace {
 
@@ -65,12 +67,18 @@ void DemSolver<D>::kick(double h) {
   auto& p = w_.particles;
   const auto g = w_.gravity;
   const auto n = static_cast<std::ptrdiff_t>(p.size());
+  // Background damping -m nu v, -I nu w, taken implicitly (v_new feels it): stable for any nu h.
+  const double keep = w_.viscous_rate > 0.0 ? 1.0 / (1.0 + w_.viscous_rate * h) : 1.0;
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (std::ptrdiff_t kk = 0; kk < n; ++kk) {
     const auto k = static_cast<std::size_t>(kk);
     if (p.inv_mass[k] == 0.0) continue;
     p.v[k] += h * (p.f[k] * p.inv_mass[k] + g);
     p.w[k] += h * p.inv_inertia[k] * p.t[k];
+    if (keep != 1.0) {
+      p.v[k] *= keep;
+      p.w[k] *= keep;
+    }
   }
 }
 
@@ -106,16 +114,20 @@ void DemSolver<D>::compute_forces() {
     pair_delta_.assign(nl.pairs.size(), -1.0);
     wall_moment_.assign(nl.wall_pairs.size(), Space<D>::zero_rot());
     wall_delta_.assign(nl.wall_pairs.size(), -1.0);
+    pair_event_.assign(nl.bridges ? nl.pairs.size() : 0, 0);
     scratch_build_ = nl.builds;
   }
   diag_ = StepDiagnostics{};
+  const bool wet = nl.bridges && nl.pairs.bridge.size() == nl.pairs.size();
   {
     auto scope = timers_.time(Phase::kForces);
-    if (w_.model.normal == NormalModel::kHertz)
-      pair_forces<HertzNormal>();
+    const bool hertz = w_.model.normal == NormalModel::kHertz;
+    if (wet)
+      hertz ? wet_pair_forces<HertzNormal>() : wet_pair_forces<LinearNormal>();
     else
-      pair_forces<LinearNormal>();
+      hertz ? pair_forces<HertzNormal>() : pair_forces<LinearNormal>();
   }
+  if (wet) settle_liquid();
   {
     auto scope = timers_.time(Phase::kWallForces);
     if (w_.model.normal == NormalModel::kHertz)
@@ -168,6 +180,111 @@ void DemSolver<D>::pair_forces() {
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
   diag_.touching += touching;
+}
+
+// The grain-pair pass with capillary bridges. As pair_forces, plus: a bridged pair that has
+// separated feels the bridge's attraction until its gap exceeds the rupture distance; a
+// touching pair gets the contact attraction -kappa R, and a bridge if it had none (formation
+// is only recorded here; the liquid moves in settle_liquid, in list order, so the result does
+// not depend on the number of threads). The force at contact does not depend on the volume.
+template <int D>
+template <class Normal>
+void DemSolver<D>::wet_pair_forces() {
+  using S = Space<D>;
+  const auto& p = w_.particles;
+  auto& pl = w_.neighbors.pairs;
+  const CapillaryParams& cap = w_.model.capillary;
+  const double kappa = Capillary::kappa(cap);
+  const bool forming = w_.liquid.wet();
+  const double dt = w_.dt;
+  const auto n_pairs = static_cast<std::ptrdiff_t>(pl.size());
+  double max_ratio = 0.0;
+  std::size_t touching = 0, events = 0;
+#pragma omp parallel for schedule(static) reduction(max : max_ratio) \
+    reduction(+ : touching, events) if (n_pairs >= kMinParallelItems)
+  for (std::ptrdiff_t kk = 0; kk < n_pairs; ++kk) {
+    const auto k = static_cast<std::size_t>(kk);
+    const std::uint32_t i = pl.i[k], j = pl.j[k];
+    const typename S::Vec d = p.x[i] - p.x[j];
+    const double rsum = p.radius[i] + p.radius[j];
+    const double dist2 = d.squaredNorm();
+    const double volume = pl.bridge[k];
+    if (dist2 >= rsum * rsum) {
+      const double gap = std::sqrt(dist2) - rsum;
+      if (volume < 0.0 || !Capillary::holds(cap, volume, gap)) {
+        if (volume >= 0.0) {
+          pair_event_[k] = kBridgeBroken;
+          ++events;
+        }
+        forget_if_ended(pl, pair_moment_, pair_delta_, k, S::zero_rot());
+        continue;
+      }
+      pl.shear[k].setZero();
+      const double f0 = -kappa * std::sqrt(p.radius[i] * p.radius[j]);
+      const double decay = Capillary::decay_length(cap, p.radius[i], p.radius[j], volume);
+      pl.force[k] = f0 * std::exp(-gap / decay) / (gap + rsum) * d;
+      pair_moment_[k] = S::zero_rot();  // along the line of centres: no torque
+      pair_delta_[k] = -1.0;            // a stored force to clear when the bridge breaks
+      continue;
+    }
+    if (volume < 0.0 && forming) {
+      pair_event_[k] = kBridgeFormed;
+      ++events;
+    }
+    const double dist = std::sqrt(dist2);
+    ContactGeometry<D> g;
+    g.n = d / dist;
+    g.delta = rsum - dist;
+    const typename S::Vec arm_i = -(p.radius[i] - 0.5 * g.delta) * g.n;
+    const typename S::Vec arm_j = (p.radius[j] - 0.5 * g.delta) * g.n;
+    g.vrel = p.v[i] + S::spin_velocity(p.w[i], arm_i) - p.v[j] - S::spin_velocity(p.w[j], arm_j);
+    g.r_eff = p.radius[i] * p.radius[j] / rsum;
+    g.m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
+    const double cohesion =
+        volume >= 0.0 || forming ? -kappa * std::sqrt(p.radius[i] * p.radius[j]) : 0.0;
+    const PairParams& pp = w_.materials.pair(p.material[i], p.material[j]);
+    const typename S::Vec f = contact_force<D, Normal>(g, pp, w_.model, dt, pl.shear[k], cohesion);
+    pl.force[k] = f;
+    pair_moment_[k] = S::moment(g.n, f);
+    pair_delta_[k] = g.delta;
+    max_ratio = std::max(max_ratio, g.delta / std::min(p.radius[i], p.radius[j]));
+    ++touching;
+  }
+  diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
+  diag_.touching += touching;
+  events_ = events;
+}
+
+// Move the liquid of this step's bridge events, in list order (deterministic), and of any
+// bridge the last rebuild dropped. A new bridge whose rupture distance would exceed the skin
+// raises the skin and asks for a rebuild, so that no bridged pair can leave the list.
+template <int D>
+void DemSolver<D>::settle_liquid() {
+  auto& nl = w_.neighbors;
+  auto& liquid = w_.liquid;
+  const auto policy = w_.model.capillary.ruptured;
+  if (liquid.film.size() != w_.particles.size()) liquid.film.resize(w_.particles.size(), 0.0);
+  for (const DroppedBridge& b : nl.dropped_bridges)
+    release_bridge(liquid, policy, b.i, b.j, b.volume);
+  nl.dropped_bridges.clear();
+  if (events_ == 0) return;
+  auto& pl = nl.pairs;
+  for (std::size_t k = 0; k < pl.size(); ++k) {
+    if (pair_event_[k] == 0) continue;
+    if (pair_event_[k] == kBridgeBroken) {
+      release_bridge(liquid, policy, pl.i[k], pl.j[k], pl.bridge[k]);
+      pl.bridge[k] = PairList<D>::kNoBridge;
+    } else {
+      pl.bridge[k] = take_bridge_liquid(liquid, pl.i[k], pl.j[k]);
+      const double reach = Capillary::rupture_distance(w_.model.capillary, pl.bridge[k]);
+      if (reach > nl.skin) {
+        nl.skin = 1.05 * reach;
+        nl.x_ref.clear();  // forces a rebuild before the next force pass
+      }
+    }
+    pair_event_[k] = 0;
+  }
+  events_ = 0;
 }
 
 template <int D>

@@ -25,8 +25,11 @@ class DemSolver final : public Solver {
   template <class Normal>
   void pair_forces();
   template <class Normal>
+  void wet_pair_forces();
+  template <class Normal>
   void wall_forces();
   void accumulate();
+  void settle_liquid();
 
   World<D>& w_;
   StepDiagnostics diag_;
@@ -34,6 +37,10 @@ class DemSolver final : public Solver {
   // Per-contact scratch of the force pass (n x F and overlap), read by the accumulation pass.
   std::vector<typename Space<D>::Rot> pair_moment_, wall_moment_;
   std::vector<double> pair_delta_, wall_delta_;  // 0 apart, > 0 overlap, -1 unknown
+  // Capillary bridges: per pair, a bridge event of this step (kBridgeFormed / kBridgeBroken),
+  // applied in list order after the force pass; events_ counts them (0: nothing to scan).
+  std::vector<std::uint8_t> pair_event_;
+  std::size_t events_ = 0;
   std::uint64_t scratch_build_ = ~std::uint64_t{0};
 };
 

@@ -1,6 +1,7 @@
 #include "sable/io/snapshot.hpp"
 
 #include <fmt/format.h>
+#include <cmath>
 
 #include <algorithm>
 #include <array>
@@ -154,6 +155,19 @@ void write_neighbors(h5::File& f, const NeighborList<D>& nl) {
   f.write_attr("/neighbors", "builds", nl.builds);
 }
 
+// Capillary bridges and the grains' films, only for a wet contact law (contact/liquid.hpp).
+template <int D>
+void write_liquid(h5::File& f, const World<D>& w) {
+  if (!w.neighbors.bridges) return;
+  const auto& pl = w.neighbors.pairs;
+  f.write("/neighbors/pairs/bridge", pl.bridge.size() == pl.size()
+                                         ? pl.bridge
+                                         : std::vector<double>(pl.size(), PairList<D>::kNoBridge));
+  f.write("/liquid/film", w.liquid.film);
+  f.write_attr("/liquid", "total", w.liquid.total);
+  f.write_attr("/liquid", "lost", w.liquid.lost);
+}
+
 // --- reading
 
 h5::File open_snapshot(const std::string& path) {
@@ -184,6 +198,7 @@ struct Loaded {
   ParticleStore<D> particles;
   std::vector<Vec> wall_point, wall_velocity, wall_force;
   NeighborList<D> neighbors;
+  LiquidState liquid;
   double time = 0.0, dt = 0.0;
   std::uint64_t step = 0, hash = 0;
   std::array<std::uint64_t, 4> rng{};
@@ -353,6 +368,36 @@ void read_neighbors(const h5::File& f, std::size_t n, std::size_t walls, Neighbo
 }
 
 template <int D>
+void read_liquid(const h5::File& f, bool wet_model, std::size_t grains, Loaded<D>& s) {
+  auto& pl = s.neighbors.pairs;
+  const bool has = f.exists("/neighbors/pairs/bridge");
+  if (has && !wet_model)
+    f.fail(
+        "holds liquid bridges ('/neighbors/pairs/bridge'), but the scenario's contact law is "
+        "dry: resume it with contact.cohesion = \"capillary\"");
+  if (!wet_model) return;
+  if (!has) {  // a dry snapshot continued by a wet scenario: no liquid until a stage wets it
+    pl.bridge.assign(pl.size(), PairList<D>::kNoBridge);
+    return;
+  }
+  pl.bridge = f.read<double>("/neighbors/pairs/bridge", 0, static_cast<hsize_t>(pl.size()),
+                             "one per pair, as '/neighbors/pairs/i'");
+  s.liquid.film = f.read<double>("/liquid/film", 0);
+  s.liquid.total = f.read_attr<double>("/liquid", "total");
+  s.liquid.lost = f.read_attr<double>("/liquid", "lost");
+  if (!s.liquid.film.empty() && s.liquid.film.size() != grains)
+    f.fail(fmt::format("'/liquid/film' has {} rows, expected 0 or one per grain ({})",
+                       s.liquid.film.size(), grains));
+  for (std::size_t k = 0; k < pl.size(); ++k)
+    if (!(pl.bridge[k] >= 0.0 || pl.bridge[k] == PairList<D>::kNoBridge) ||
+        !std::isfinite(pl.bridge[k]))
+      f.fail(
+          fmt::format("'/neighbors/pairs/bridge' row {} is {}; expected a volume >= 0 (m^3) "
+                      "or -1 (no bridge)",
+                      k, pl.bridge[k]));
+}
+
+template <int D>
 void read_clock(const h5::File& f, Loaded<D>& out) {
   out.step = f.read_attr<std::uint64_t>("/", "step");
   out.time = f.read_attr<double>("/", "time");
@@ -384,6 +429,7 @@ void swap_state(World<D>& w, Loaded<D>& s) {
   swap(a.x_ref, b.x_ref);
   swap(a.wall_ref, b.wall_ref);
   swap(a.builds, b.builds);
+  swap(w.liquid, s.liquid);
   swap(w.time, s.time);
   swap(w.dt, s.dt);
   swap(w.step, s.step);
@@ -403,6 +449,7 @@ void save_snapshot(const World<D>& world, const RunPosition& pos, const std::str
     write_particles(f, world.particles);
     write_walls(f, world.walls);
     write_neighbors(f, world.neighbors);
+    write_liquid(f, world);
     f.close();
   });
 }
@@ -422,6 +469,7 @@ RunPosition load_snapshot(const std::string& path, World<D>& world, std::string*
   s.particles = read_particles<D>(f, world.materials.size());
   read_walls(f, world.walls, s);
   read_neighbors(f, s.particles.size(), world.walls.size(), s.neighbors);
+  read_liquid(f, world.neighbors.bridges, s.particles.size(), s);
   std::string text = f.read_string("/scenario");
   swap_state(world, s);
   if (const std::uint64_t h = state_hash(world); h != s.hash) {

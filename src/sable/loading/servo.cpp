@@ -87,6 +87,11 @@ void servo_walls(World<D>& w, const std::vector<ServoTarget>& targets, const Ser
   if (gain <= 0.0) {
     double top = 0.0;
     for (const auto& t : targets) top = std::max(top, t.stress);
+    if (top <= 0.0) top = s.zero_target_scale;
+    if (top <= 0.0 && !targets.empty())
+      throw InputError(
+          "stress-controlled walls: every target is 0 Pa; set a gain (servo_gain) or the stress "
+          "scale a zero target refers to (stress_scale)");
     gain = top > 0.0 ? s.max_velocity / top : 0.0;
   }
   for (const auto& t : targets) {
@@ -101,11 +106,47 @@ void servo_walls(World<D>& w, const std::vector<ServoTarget>& targets, const Ser
 }
 
 template <int D>
-double servo_error(const World<D>& w, const std::vector<ServoTarget>& targets) {
+std::vector<WallBody> wall_bodies(const World<D>& w, const std::vector<ServoTarget>& targets,
+                                  const ServoSettings& s) {
+  constexpr double kStepsPerDiameter = 10.0;  // see the mass rule in servo.hpp
+  const auto& p = w.particles;
+  double grains = 0.0, diameters = 0.0;
+  std::size_t movable = 0;
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    if (p.fixed(k)) continue;
+    grains += p.mass[k];
+    diameters += 2.0 * p.radius[k];
+    ++movable;
+  }
+  const double d = movable > 0 ? diameters / static_cast<double>(movable) : 0.0;
+  std::vector<WallBody> out;
+  out.reserve(targets.size());
+  for (const auto& t : targets) {
+    const double force = t.stress * wall_area(w, t.wall);
+    const double resolved =
+        d > 0.0 ? 0.5 * kStepsPerDiameter * kStepsPerDiameter * w.dt * w.dt * force / d : 0.0;
+    const double mass = s.wall_mass > 0.0 ? s.wall_mass : std::max(grains, resolved);
+    if (!(mass > 0.0))
+      throw InputError(fmt::format(
+          "wall '{}': no grains and no force to set its mass from; give servo_wall_mass",
+          w.walls[t.wall].name));
+    out.push_back({t.wall, force, mass, s.max_velocity});
+  }
+  return out;
+}
+
+template <int D>
+double servo_error(const World<D>& w, const std::vector<ServoTarget>& targets,
+                   double zero_target_scale) {
   double worst = 0.0;
-  for (const auto& t : targets)
-    worst = std::max(
-        worst, std::abs(wall_normal_stress(w, t.wall) - t.stress) / std::max(t.stress, 1e-300));
+  for (const auto& t : targets) {
+    const double scale = t.stress > 0.0 ? t.stress : zero_target_scale;
+    if (scale <= 0.0)
+      throw InputError(fmt::format(
+          "wall '{}': a 0 Pa target needs a stress scale (stress_scale) to measure its error",
+          w.walls[t.wall].name));
+    worst = std::max(worst, std::abs(wall_normal_stress(w, t.wall) - t.stress) / scale);
+  }
   return worst;
 }
 
@@ -114,7 +155,9 @@ double servo_error(const World<D>& w, const std::vector<ServoTarget>& targets) {
   template double wall_normal_stress(const World<D>&, std::size_t);                            \
   template WallResponse wall_response(const World<D>&, std::size_t);                           \
   template void servo_walls(World<D>&, const std::vector<ServoTarget>&, const ServoSettings&); \
-  template double servo_error(const World<D>&, const std::vector<ServoTarget>&);
+  template std::vector<WallBody> wall_bodies(const World<D>&, const std::vector<ServoTarget>&, \
+                                             const ServoSettings&);                            \
+  template double servo_error(const World<D>&, const std::vector<ServoTarget>&, double);
 SABLE_SERVO(2)
 SABLE_SERVO(3)
 #undef SABLE_SERVO

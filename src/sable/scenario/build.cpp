@@ -73,6 +73,13 @@ void build_model(const ScenarioConfig& cfg, World<D>& w) {
   w.model.attractive_damping = c.attractive_damping;
   w.model.kn = c.kn;
   w.model.kt = c.kt;
+  w.model.cohesion = c.cohesion == "capillary" ? CohesionModel::kCapillary : CohesionModel::kNone;
+  w.model.capillary.surface_tension = c.surface_tension;
+  w.model.capillary.contact_angle = c.contact_angle_deg * std::numbers::pi / 180.0;
+  w.model.capillary.c = c.capillary_c;
+  w.model.capillary.ruptured =
+      c.ruptured_liquid == "lost" ? RupturedLiquid::kLost : RupturedLiquid::kGrains;
+  w.neighbors.bridges = w.model.cohesion == CohesionModel::kCapillary;
   for (const auto& wc : cfg.walls) add_walls(wc, w);
   w.gravity = S::from_array(cfg.sim.gravity);
   w.thickness = cfg.sim.thickness;

@@ -79,6 +79,12 @@ struct ContactConfig {
   bool attractive_damping = false;     // allow the damped normal force to pull (LIGGGHTS does)
   double kn = 0.0;                     // linear law normal stiffness (N/m)
   double kt = 0.0;                     // linear law tangential stiffness (N/m)
+  // Cohesion sub-model: "none" | "capillary" (liquid bridges, contact/capillary.hpp).
+  std::string cohesion = "none";
+  double surface_tension = 0.0728;         // N/m (water, 20 C)
+  double contact_angle_deg = 0.0;          // degrees; 0 = perfectly wetting (the paper's)
+  double capillary_c = 0.9;                // constant c of the decay length (eq. 6)
+  std::string ruptured_liquid = "grains";  // "grains" | "lost" (contact/liquid.hpp)
   SourceLoc loc;
 };
 
@@ -136,15 +142,35 @@ struct StageConfig {
   std::optional<double> kinetic_energy_below;  // or run until KE < bound (J) ...
   std::uint64_t max_steps = 0;                 // ... but at most this many steps (required then)
   std::uint64_t check_interval = 100;          // steps between kinetic-energy checks
+  // kinetic_energy_of = "translation": the bound applies to the translational energy only
+  // (spinning rattlers of a static packing never stop; "all" is the default).
+  bool translation_only = false;
+  // Background viscous damping rate nu (1/s): every free grain feels -m nu v and -I nu w
+  // (DEM; LIGGGHTS' fix viscous). A numerical aid to reach static equilibrium: it vanishes at
+  // rest, so it does not change a static state; 0 (default) leaves the dynamics untouched.
+  double viscous_damping = 0.0;
   std::map<std::string, Vec3a> wall_velocity;  // set at stage start: wall name -> velocity
   // Stress control (loading/servo.hpp): wall or box name -> target normal stress (Pa); the
   // walls move at most servo_max_velocity (required with wall_stress), with servo_gain (m/s per
   // Pa; 0: max velocity / largest target). stress_tolerance (relative) adds "every target
   // within it" to a kinetic_energy_below stage's end condition: "until equilibrium".
+  // Zero targets (a sample released to p = 0) are valid: stress_scale (Pa) is then the stress
+  // their error is relative to (a wall is within stress_tolerance once it carries less than
+  // stress_tolerance * stress_scale; required with stress_tolerance when a target is 0), and
+  // when every target is 0 the default gain is max velocity / stress_scale (so stress_scale or
+  // servo_gain is required then). Non-zero targets are measured against themselves.
   std::map<std::string, double> wall_stress;
   double servo_gain = 0.0;
   double servo_max_velocity = 0.0;
+  // Contact dynamics moves the walls as bodies under target * area instead (no servo_gain):
+  // servo_wall_mass (kg) overrides their automatic mass (loading/servo.hpp); 0: automatic.
+  double servo_wall_mass = 0.0;
   std::optional<double> stress_tolerance;
+  // Wetting (contact/liquid.hpp), at the start of the stage: gravimetric water content (kg
+  // of liquid per kg of grains) distributed as bridges over the eligible pairs.
+  std::optional<double> water_content;
+  double liquid_density = 1000.0;  // kg/m^3
+  double stress_scale = 0.0;       // Pa; 0: not given
   SourceLoc loc;
 };
 

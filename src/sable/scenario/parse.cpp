@@ -167,15 +167,32 @@ std::vector<PairOverrideConfig> parse_pairs(const Table& root,
   return out;
 }
 
+// cohesion = "capillary" with its liquid's properties (contact/capillary.hpp).
+void parse_cohesion(const Table& t, ContactConfig& c) {
+  c.cohesion = t.choice("cohesion", {"none", "capillary"}, c.cohesion);
+  const char* keys[] = {"surface_tension", "contact_angle", "capillary_c", "ruptured_liquid"};
+  if (c.cohesion != "capillary") {
+    for (const char* k : keys) t.reject(k, "unless cohesion = \"capillary\"");
+    return;
+  }
+  c.surface_tension = t.number_or("surface_tension", kPositive, c.surface_tension);
+  c.contact_angle_deg =
+      t.number_or("contact_angle", Range{0.0, 90.0, false, true}, c.contact_angle_deg);
+  c.capillary_c = t.number_or("capillary_c", kPositive, c.capillary_c);
+  c.ruptured_liquid = t.choice("ruptured_liquid", {"grains", "lost"}, c.ruptured_liquid);
+}
+
 ContactConfig parse_contact(const Table& root) {
   ContactConfig c;
   const auto t = root.table("contact");
   if (!t) return c;
-  t->check_keys({"normal", "tangential", "attractive_damping", "kn", "kt"});
+  t->check_keys({"normal", "tangential", "attractive_damping", "kn", "kt", "cohesion",
+                 "surface_tension", "contact_angle", "capillary_c", "ruptured_liquid"});
   c.normal = t->choice("normal", {"hertz", "linear"}, c.normal);
   c.tangential = t->choice("tangential", {"history", "none"}, c.tangential);
   c.attractive_damping = t->boolean_or("attractive_damping", c.attractive_damping);
   c.loc = t->loc();
+  parse_cohesion(*t, c);
   if (c.normal != "linear") {
     const std::string why = "to normal = " + in_quotes(c.normal) + " (only to normal = \"linear\")";
     t->reject("kn", why);
@@ -503,10 +520,12 @@ void parse_wall_velocity(const Table& s, StageConfig& st, const std::vector<std:
 
 // wall_stress = { box = 1000.0 } or { "box.xlo" = 1000.0, ... }: a box name stands for all of
 // its planes; stress in Pa, compression positive.
-void parse_wall_stress(const Table& s, StageConfig& st, const std::vector<std::string>& names) {
+void parse_wall_stress(const Table& s, StageConfig& st, const std::vector<std::string>& names,
+                       bool cd) {
   const auto t = s.table("wall_stress");
-  if (!t) return;
-  for (auto&& [k, v] : t->raw()) {
+  // Without wall_stress the servo keys are errors (below), not silently ignored.
+  static const toml::table none;
+  for (auto&& [k, v] : t ? t->raw() : none) {
     const std::string name(k.str());
     const std::string key = t->key_path(name);
     if (!detail::contains(names, name) && !detail::contains(names, name + ".xlo"))
@@ -520,21 +539,43 @@ void parse_wall_stress(const Table& s, StageConfig& st, const std::vector<std::s
   if (!st.wall_stress.empty()) {
     if (!s.has("servo_max_velocity")) s.fail_missing("servo_max_velocity", "a speed > 0 (m/s)");
     st.servo_max_velocity = *s.number("servo_max_velocity", kPositive);
+    // DEM servoes the walls' velocities (servo_gain); contact dynamics moves them as bodies
+    // under the target force (servo_wall_mass): each key belongs to one solver.
+    const std::string other = cd ? "with simulation.solver = \"cd\" (a DEM servo key)"
+                                 : "with simulation.solver = \"dem\" (a contact-dynamics key)";
+    s.reject(cd ? "servo_gain" : "servo_wall_mass", other);
     st.servo_gain = s.number("servo_gain", kPositive).value_or(0.0);
+    st.servo_wall_mass = s.number("servo_wall_mass", kPositive).value_or(0.0);
     st.stress_tolerance = s.number("stress_tolerance", kPositive);
     if (st.stress_tolerance && !st.kinetic_energy_below)
       s.fail("stress_tolerance", "only with kinetic_energy_below (an until-equilibrium stage)");
+    // Zero targets (config.hpp): their error and, when all are 0, the default gain need a scale.
+    st.stress_scale = s.number("stress_scale", kPositive).value_or(0.0);
+    bool any_zero = false, all_zero = true;
+    for (const auto& [name, stress] : st.wall_stress) {
+      any_zero = any_zero || stress == 0.0;
+      all_zero = all_zero && stress == 0.0;
+    }
+    if (any_zero && st.stress_tolerance && !s.has("stress_scale"))
+      s.fail_missing("stress_scale",
+                     "a stress > 0 in Pa: with a 0 Pa target, stress_tolerance is relative to it");
+    if (all_zero && !s.has("servo_gain") && !s.has("stress_scale"))
+      s.fail_missing("stress_scale",
+                     "a stress > 0 in Pa, or servo_gain: every target is 0 Pa, so the default "
+                     "gain (servo_max_velocity / largest target) does not exist");
   } else {
-    for (const char* k : {"servo_max_velocity", "servo_gain", "stress_tolerance"})
+    for (const char* k : {"servo_max_velocity", "servo_gain", "stress_tolerance", "stress_scale",
+                          "servo_wall_mass"})
       s.reject(k, "to a stage without wall_stress");
   }
 }
 
 StageConfig parse_stage(const Table& s, std::size_t index, const std::vector<std::string>& names,
-                        int dim) {
+                        int dim, bool cd) {
   s.check_keys({"name", "steps", "kinetic_energy_below", "max_steps", "check_interval",
                 "wall_velocity", "wall_stress", "servo_gain", "servo_max_velocity",
-                "stress_tolerance"});
+                "stress_tolerance", "stress_scale", "water_content", "liquid_density",
+                "kinetic_energy_of", "servo_wall_mass", "viscous_damping"});
   StageConfig st;
   st.name = s.string("name").value_or("stage" + std::to_string(index));
   if (st.name.empty()) s.fail("name", "a non-empty string");
@@ -555,8 +596,21 @@ StageConfig parse_stage(const Table& s, std::size_t index, const std::vector<std
     s.reject("max_steps", "to a stage with steps (only with kinetic_energy_below)");
   }
   st.check_interval = s.unsigned_or("check_interval", st.check_interval, 1);
+  if (st.kinetic_energy_below)
+    st.translation_only =
+        s.choice("kinetic_energy_of", {"all", "translation"}, "all") == "translation";
+  else
+    s.reject("kinetic_energy_of", "to a stage with steps (only with kinetic_energy_below)");
   parse_wall_velocity(s, st, names, dim);
-  parse_wall_stress(s, st, names);
+  parse_wall_stress(s, st, names, cd);
+  st.viscous_damping = s.number_or("viscous_damping", kNonNegative, 0.0);
+  if (cd && st.viscous_damping > 0.0)
+    s.fail("viscous_damping", "0 with solver = \"cd\" (contact dynamics dissipates by itself)");
+  st.water_content = s.number("water_content", kPositive);
+  if (st.water_content)
+    st.liquid_density = s.number_or("liquid_density", kPositive, st.liquid_density);
+  else
+    s.reject("liquid_density", "to a stage without water_content");
   st.loc = s.loc();
   return st;
 }
@@ -608,8 +662,16 @@ ScenarioConfig parse_scenario(const std::string& text, const std::string& path) 
   const auto stages = root.table_array("stage");
   if (stages.empty()) root.fail_missing("stage", "at least one [[stage]] table");
   for (std::size_t i = 0; i < stages.size(); ++i) {
-    cfg.stages.push_back(parse_stage(stages[i], i, wall_names, cfg.sim.dimension));
+    cfg.stages.push_back(
+        parse_stage(stages[i], i, wall_names, cfg.sim.dimension, cfg.sim.solver == "cd"));
+    if (cfg.stages.back().water_content && cfg.contact.cohesion != "capillary")
+      stages[i].fail("water_content", "only with contact.cohesion = \"capillary\"");
   }
+  if (cfg.contact.cohesion == "capillary" && (cfg.sim.dimension != 3 || cfg.sim.solver != "dem"))
+    root.table("contact")->fail("cohesion",
+                                "\"none\" here, or a 3D DEM scenario (dimension = 3, solver = "
+                                "\"dem\"): the bridge law is for spheres, and contact dynamics "
+                                "has no cohesion yet");
   cfg.output = parse_output(root);
   return cfg;
 }

@@ -1,16 +1,19 @@
 #include "sable/scenario/runner.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <omp.h>
 #include <unistd.h>
 #include <chrono>
 #include <filesystem>
 #include <memory>
 
+#include "sable/contact/liquid.hpp"
 #include "sable/core/error.hpp"
 #include "sable/io/csv.hpp"
 #include "sable/io/snapshot.hpp"
 #include "sable/io/vtk.hpp"
+#include "sable/loading/box_state.hpp"
 #include "sable/loading/servo.hpp"
 #include "sable/scenario/build.hpp"
 #include "sable/scenario/progress.hpp"
@@ -19,6 +22,28 @@ namespace sable {
 namespace {
 
 namespace fs = std::filesystem;
+
+// The box the scenario builds (its walls before any step): the strain reference of
+// series.csv and the stage lines, the same whether the run started here or resumed.
+template <int D>
+std::optional<BoxState<D>> scenario_box(const ScenarioConfig& cfg) {
+  World<D> w;
+  build_model(cfg, w);
+  return measure_box(w);
+}
+
+// "; box: sigma = (..) Pa, strain = (..), solid fraction .." for the stage lines; empty if none.
+template <int D>
+std::string box_text(const World<D>& w, const std::optional<BoxState<D>>& ref) {
+  const auto b = measure_box(w);
+  if (!b || !ref) return {};
+  const auto eps = box_strain(*b, *ref);
+  return fmt::format(
+      "; box: sigma = ({:.4g}) Pa, strain = ({:.4g}) (compression positive, since the run's "
+      "start), solid fraction {:.4f}",
+      fmt::join(b->stress.data(), b->stress.data() + D, ", "),
+      fmt::join(eps.data(), eps.data() + D, ", "), b->solid_fraction);
+}
 
 template <int D>
 class Runner {
@@ -37,6 +62,7 @@ class Runner {
   void setup();
   void open_outputs(bool resuming);
   void start_stage();
+  void wet();
   bool stage_done();
   void load_servo_targets();
   void after_step();
@@ -66,6 +92,7 @@ class Runner {
   std::optional<CsvLog> csv_;
   std::optional<PvdSeries> grains_pvd_, contacts_pvd_, walls_pvd_;
   std::vector<ServoTarget> servo_;  // this stage's stress-controlled walls
+  std::optional<BoxState<D>> box_ref_ = scenario_box<D>(cfg_);  // strain reference, if a box
   bool warned_overlap_ = false;
   bool warned_unconverged_ = false;
 };
@@ -107,6 +134,16 @@ void Runner<D>::open_outputs(bool resuming) {
       if (D == 2 && ax[0] == 'z') continue;
       cols.push_back(fmt::format("wall_{}_f{}_N", wall.name, ax));
     }
+  // A box of plane walls (loading/box_state.hpp): its corners, mean wall stresses, strain
+  // (compression positive, against the box the scenario builds) and solid fraction.
+  if (box_ref_) {
+    const char* ax[] = {"x", "y", "z"};
+    for (int d = 0; d < D; ++d)
+      for (const char* end : {"lo", "hi"}) cols.push_back(fmt::format("box_{}{}_m", ax[d], end));
+    for (int d = 0; d < D; ++d) cols.push_back(fmt::format("sigma_{0}{0}_Pa", ax[d]));
+    for (int d = 0; d < D; ++d) cols.push_back(fmt::format("strain_{0}{0}", ax[d]));
+    cols.push_back("solid_fraction");
+  }
   csv_.emplace((out_ / "series.csv").string(), cols,
                resuming ? std::optional<std::uint64_t>(world_.step) : std::nullopt);
   grains_pvd_.emplace((out_ / "grains.pvd").string());
@@ -142,22 +179,33 @@ void Runner<D>::start_stage() {
 
   progress_.message(fmt::format("stage {} '{}' begins at step {} (t = {:.6g} s, dt = {:.4g} s)",
                                 pos_.stage + 1, st.name, world_.step, world_.time, world_.dt));
+  if (st.water_content) wet();
 }
 
-// The stage's stress-controlled walls; also when resuming in the middle of a stage.
+// Distribute the stage's liquid, then recompute the forces (the step starts from them).
+template <int D>
+void Runner<D>::wet() {
+  const StageConfig& st = cfg_.stages[pos_.stage];
+  const WettingResult r = wet_grains(world_, *st.water_content, st.liquid_density);
+  solver_->initialize();
+  progress_.message(fmt::format(
+      "wetted: water content {:.4g}, liquid volume {:.4g} m^3 in {} bridges ({} at contacts, "
+      "debonding distance {:.4g} m, largest rupture distance {:.4g} m, skin {:.4g} m)",
+      *st.water_content, r.volume, r.bridges, r.contacts, r.debonding_distance, r.max_rupture,
+      world_.neighbors.skin));
+}
+
+// The stage's stress-controlled walls; also when resuming in the middle of a stage. A solver
+// that moves them as bodies (contact dynamics) drops the last stage's here.
 template <int D>
 void Runner<D>::load_servo_targets() {
   servo_.clear();
-  if (!cfg_.stages[pos_.stage].wall_stress.empty() && cfg_.sim.solver == "cd")
-    throw InputError(fmt::format(
-        "{}: stage '{}': stress-controlled walls (wall_stress) need simulation.solver = \"dem\" "
-        "for now: with rigid grains a wall must be driven by a force, not a velocity",
-        cfg_.path, cfg_.stages[pos_.stage].name));
   for (const auto& [name, stress] : cfg_.stages[pos_.stage].wall_stress)
     for (std::size_t k : walls_named(world_, name)) {
       wall_area(world_, k);  // checks the wall can be stress-controlled (InputError if not)
       servo_.push_back({k, stress});
     }
+  if (solver_->moves_wall_bodies()) solver_->set_wall_bodies({});
 }
 
 template <int D>
@@ -166,17 +214,21 @@ bool Runner<D>::stage_done() {
   if (st.steps) return pos_.stage_step >= *st.steps;
   // Never at the stage's first step: grains placed at rest would end a settling stage at once.
   if (pos_.stage_step > 0 && pos_.stage_step % st.check_interval == 0 &&
-      kinetic_energy(world_) < *st.kinetic_energy_below &&
-      (!st.stress_tolerance || servo_error(world_, servo_) <= *st.stress_tolerance))
+      kinetic_energy(world_, st.translation_only) < *st.kinetic_energy_below &&
+      (!st.stress_tolerance ||
+       servo_error(world_, servo_, st.stress_scale) <= *st.stress_tolerance))
     return true;
   if (pos_.stage_step >= st.max_steps) {
     progress_.message(fmt::format(
         "warning: stage '{}' reached max_steps = {} before equilibrium: kinetic energy {:.4g} J "
-        "(kinetic_energy_below = {:.4g} J){}",
-        st.name, st.max_steps, kinetic_energy(world_), *st.kinetic_energy_below,
-        st.stress_tolerance ? fmt::format(", wall stress error {:.3g} (stress_tolerance = {:.3g})",
-                                          servo_error(world_, servo_), *st.stress_tolerance)
-                            : std::string()));
+        "(kinetic_energy_below = {:.4g} J){}{}",
+        st.name, st.max_steps, kinetic_energy(world_, st.translation_only),
+        *st.kinetic_energy_below,
+        st.stress_tolerance
+            ? fmt::format(", wall stress error {:.3g} (stress_tolerance = {:.3g})",
+                          servo_error(world_, servo_, st.stress_scale), *st.stress_tolerance)
+            : std::string(),
+        box_text(world_, box_ref_)));
     return true;
   }
   return false;
@@ -245,6 +297,14 @@ void Runner<D>::write_csv_row() {
   solver_->diagnostic_values(row);
   for (const auto& wall : world_.walls)
     for (int d = 0; d < D; ++d) row.push_back(wall.force[d]);
+  if (box_ref_) {
+    const auto b = measure_box(world_);  // same walls as the reference: a box too
+    const auto eps = box_strain(*b, *box_ref_);
+    for (int d = 0; d < D; ++d) row.insert(row.end(), {b->lo[d], b->hi[d]});
+    for (int d = 0; d < D; ++d) row.push_back(b->stress[d]);
+    for (int d = 0; d < D; ++d) row.push_back(eps[d]);
+    row.push_back(b->solid_fraction);
+  }
   csv_->row(row);
 }
 
@@ -267,9 +327,9 @@ std::string Runner<D>::stage_summary(const StageClock& c) const {
   }
   return fmt::format(
       "stage '{}' done: {} steps in {:.2f} s, {:.4g} grain-steps/s ({}); {} neighbour builds so "
-      "far",
+      "far{}",
       cfg_.stages[pos_.stage].name, steps, secs, secs > 0 ? grain_steps / secs : 0.0, phases,
-      world_.neighbors.builds);
+      world_.neighbors.builds, box_text(world_, box_ref_));
 }
 
 template <int D>
@@ -280,11 +340,17 @@ RunResult Runner<D>::run() {
     for (; pos_.stage < cfg_.stages.size(); ++pos_.stage, pos_.stage_step = 0) {
       if (pos_.stage_step == 0) start_stage();
       load_servo_targets();
+      world_.viscous_rate = cfg_.stages[pos_.stage].viscous_damping;
       const StageClock clock(world_.step, solver_->timers());
       while (!stage_done()) {
-        if (!servo_.empty()) {
+        if (!servo_.empty()) {  // loading/servo.hpp: DEM servo, or CD wall bodies
           const StageConfig& st = cfg_.stages[pos_.stage];
-          servo_walls(world_, servo_, ServoSettings{st.servo_gain, st.servo_max_velocity});
+          const ServoSettings s{st.servo_gain, st.servo_max_velocity, st.stress_scale,
+                                st.servo_wall_mass};
+          if (solver_->moves_wall_bodies())
+            solver_->set_wall_bodies(wall_bodies(world_, servo_, s));
+          else
+            servo_walls(world_, servo_, s);
         }
         solver_->step();
         ++pos_.stage_step;

@@ -1,6 +1,7 @@
 // The narrow interface every time stepper implements (DEM now, contact dynamics next).
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -18,6 +19,16 @@ struct StepDiagnostics {
   bool converged = true;
 };
 
+// A wall the solver moves as a rigid body with one translational degree of freedom along its
+// normal, under a constant applied force: a stress-controlled wall with rigid grains
+// (loading/servo.hpp), whose velocity (Wall::velocity) is then an unknown of the step.
+struct WallBody {
+  std::size_t wall = 0;    // index into World::walls: a plane wall
+  double force = 0.0;      // N, along the wall's normal: pushing into the grains
+  double mass = 0.0;       // kg, > 0
+  double max_speed = 0.0;  // m/s: the wall's speed is capped there (0: no cap)
+};
+
 class Solver {
  public:
   virtual ~Solver() = default;
@@ -29,6 +40,12 @@ class Solver {
   virtual void step() = 0;
   virtual const StepDiagnostics& diagnostics() const = 0;
   virtual const PhaseTimers& timers() const = 0;
+  // Stress-controlled walls. A solver that moves them itself as bodies under a force (contact
+  // dynamics: rigid grains give a velocity servo no stiffness to act on) says so here and is
+  // given them before each step; for the others (DEM) the runner sets their velocities.
+  virtual bool moves_wall_bodies() const { return false; }
+  // The walls to move as bodies from the next step on; replaces the last list (empty: none).
+  virtual void set_wall_bodies(const std::vector<WallBody>& /*bodies*/) {}
   // Solver-specific columns of the CSV time series (e.g. NLGS iterations and residual).
   virtual std::vector<std::string> diagnostic_columns() const { return {}; }
   virtual void diagnostic_values(std::vector<double>& /*row*/) const {}

@@ -77,6 +77,12 @@ std::uint64_t state_hash(const World<D>& w) {
   hash_dense(h, nl.wall_pairs.wall);
   hash_dense(h, nl.wall_pairs.shear);
   hash_dense(h, nl.wall_pairs.force);
+  if (nl.bridges) {  // only for a wet law: dry runs hash as they always did
+    hash_dense(h, nl.pairs.bridge);
+    hash_dense(h, w.liquid.film);
+    h.value(w.liquid.total);
+    h.value(w.liquid.lost);
+  }
   hash_dense(h, nl.x_ref);
   hash_dense(h, nl.wall_ref);
   h.value(w.time);

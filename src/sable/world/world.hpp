@@ -17,6 +17,16 @@
 
 namespace sable {
 
+// The liquid of a wet sample (capillary cohesion): in bridges (the pair list's `bridge`
+// volumes), on the grains (films: liquid of ruptured bridges waiting for a new contact), or
+// lost. total = sum of bridges + sum of films + lost at all times (to rounding).
+struct LiquidState {
+  std::vector<double> film;  // per grain slot (m^3); empty before the first wetting
+  double total = 0.0;        // liquid put in by the last wetting (m^3)
+  double lost = 0.0;         // RupturedLiquid::kLost: liquid of ruptured bridges (m^3)
+  bool wet() const { return total > 0.0; }
+};
+
 template <int D>
 struct World {
   using Vec = typename Space<D>::Vec;
@@ -26,10 +36,12 @@ struct World {
   MaterialTable materials;
   ContactModel model;
   NeighborList<D> neighbors;  // candidate contacts with their history
+  LiquidState liquid;
 
   Vec gravity = Vec::Zero();
   double thickness = 1.0;  // 2D out-of-plane depth (m)
   double dt = 0.0;
+  double viscous_rate = 0.0;  // background damping nu (1/s), set per stage; DEM only
   double time = 0.0;
   std::uint64_t step = 0;
   Rng rng;
@@ -39,14 +51,17 @@ struct World {
   double max_speed = 1.0e3;       // m/s
 };
 
-// Translational plus rotational kinetic energy (J; per thickness in 2D).
+// Translational plus (unless translation_only) rotational kinetic energy (J; per thickness
+// in 2D). Rattlers of a static packing keep spinning (nothing brakes a free rotation), so an
+// equilibrium test may look at translation only.
 template <int D>
-double kinetic_energy(const World<D>& w) {
+double kinetic_energy(const World<D>& w, bool translation_only = false) {
   const auto& p = w.particles;
   double e = 0.0;
   for (std::size_t k = 0; k < p.size(); ++k) {
     if (p.fixed(k)) continue;
     e += 0.5 * p.mass[k] * p.v[k].squaredNorm();
+    if (translation_only) continue;
     e +=
         0.5 * (p.inv_inertia[k] > 0.0 ? 1.0 / p.inv_inertia[k] : 0.0) * Space<D>::rot_norm2(p.w[k]);
   }

@@ -1,0 +1,144 @@
+#!/usr/bin/env bash
+# Force PDFs of Richefeu, El Youssoufi, Azema & Radjai (2009), "Force transmission in dry and
+# wet granular media", end to end: prepare the samples, analyse their end states, fit the
+# exponential tail, draw the PDFs. Writes out/force-pdf/:
+#   CASE/                  the run (series.csv with the box's stresses, strain and solid
+#                          fraction; ParaView files; snapshots/end_of_stage_*.h5)
+#   CASE/analysis/         `sable analyze` of the end state (summary.json, force PDFs, fabric,
+#                          coordination, stress, percolation, contacts.csv, particle_stress.csv)
+#   CASE/run_seconds       wall time of the run
+#   summary.json           per case: beta, fraction below the mean, P(0), z, ... (report.py)
+#   force-pdf.png          normal-force PDFs f / <f> on lin-log axes with the exponential fits
+# Usage: examples/force-pdf/run.sh [quick | full | CASE...]
+#   quick, full   the dry DEM study: iso-dem then triaxial-dem (~3 minutes on one core)
+#   CASE          iso-dem, triaxial-dem (triaxial-dem resumes from iso-dem's end state, which
+#                 must exist); wet (wet.toml: the unconfined and confined wet packings,
+#                 out/force-pdf/wet/{summary.json, wet.png}); later iso-cd, triaxial-cd
+# Environment: SABLE (the sable binary, default build/release/bin/sable, built if missing),
+# SABLE_THREADS (OpenMP threads per run, default 1).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+mode="${1:-quick}"
+case "$mode" in
+  quick | full) cases="iso-dem triaxial-dem" ;;
+  iso-dem | triaxial-dem | iso-cd | triaxial-cd | wet) cases="$*" ;;
+  *)
+    echo "usage: $0 [quick | full | iso-dem triaxial-dem iso-cd triaxial-cd wet]" >&2
+    exit 2
+    ;;
+esac
+SABLE="${SABLE:-build/release/bin/sable}"
+threads="${SABLE_THREADS:-1}"
+here=examples/force-pdf
+out=out/force-pdf
+mkdir -p "$out"
+if [ ! -x "$SABLE" ]; then bash scripts/build.sh release > /dev/null; fi
+
+# Statistics exclude the grains within MARGIN of the walls (wall effects: layering and the
+# walls' own forces): two mean diameters, <d> = 1.5 mm in every case here.
+margin=0.003
+
+# Run SCENARIO into out/force-pdf/NAME (resuming from SNAPSHOT if given), timing it.
+run_scenario() {
+  local name="$1" scenario="$2" resume="${3:-}" t0 t1
+  local dir="$out/$name"
+  rm -rf "$dir"
+  mkdir -p "$dir"
+  t0=$(date +%s.%N)
+  local args=(run "$scenario" --out "$dir" --threads "$threads")
+  if [ -n "$resume" ]; then args+=(--resume "$resume"); fi
+  if ! "$SABLE" "${args[@]}" 2> "$dir/run.log"; then
+    tail -5 "$dir/run.log" >&2
+    exit 1
+  fi
+  t1=$(date +%s.%N)
+  /usr/bin/python3 -c "print(round($t1 - $t0, 1))" > "$dir/run_seconds"
+  grep -E "done|warning" "$dir/run.log" || true
+}
+
+# The analysis region of an end state: the box of series.csv's row at the snapshot's step
+# (csv_interval divides the stages' lengths, so there is one) shrunk by the margin.
+region_of() {
+  local dir="$1" snap="$2" step
+  step=$("$SABLE" info "$snap" | awk '$1 == "step" { print $2 }')
+  awk -F, -v step="$step" -v m="$margin" '
+    NR == 1 { for (k = 1; k <= NF; ++k) col[$k] = k; next }
+    $col["step"] == step { last = $0 }
+    END {
+      if (last == "") {
+        printf "series.csv has no row at the snapshot step %s\n", step > "/dev/stderr"
+        exit 1
+      }
+      n = split(last, v, ",")
+      printf "%.9g,%.9g,%.9g:%.9g,%.9g,%.9g\n",
+        v[col["box_xlo_m"]] + m, v[col["box_ylo_m"]] + m, v[col["box_zlo_m"]] + m,
+        v[col["box_xhi_m"]] - m, v[col["box_yhi_m"]] - m, v[col["box_zhi_m"]] - m
+    }' "$dir/series.csv"
+}
+
+# Analyse the end state SNAPSHOT of case NAME. The CLI's force PDF and coordination use every
+# contact; report.py restricts them to the region with contacts.csv (polarization) and the
+# grains' positions (particle_stress.csv).
+analyze_end() {
+  local name="$1" snap="$2" region
+  region=$(region_of "$out/$name" "$snap")
+  echo "$region" > "$out/$name/region"
+  if ! "$SABLE" analyze "$snap" --only forces,coordination,stress,percolation,fabric,polarization,particle-stress \
+    --region "$region" --plot --out "$out/$name/analysis" 2> "$out/$name/analysis.log"; then
+    tail -5 "$out/$name/analysis.log" >&2
+    exit 1
+  fi
+}
+
+# --- one function per case ----------------------------------------------------------------
+
+case_iso_dem() {
+  run_scenario iso-dem "$here/iso-dem.toml"
+  analyze_end iso-dem "$out/iso-dem/snapshots/end_of_stage_1.h5"
+}
+
+case_triaxial_dem() {
+  local start="$out/iso-dem/snapshots/end_of_stage_1.h5"
+  if [ ! -f "$start" ]; then
+    echo "triaxial-dem starts from $start: run iso-dem first" >&2
+    exit 2
+  fi
+  run_scenario triaxial-dem "$here/triaxial-dem.toml" "$start"
+  analyze_end triaxial-dem "$out/triaxial-dem/snapshots/end_of_stage_2.h5"
+}
+
+not_yet() {
+  echo "case $1 is not written yet (see the header of $0)" >&2
+  exit 2
+}
+case_iso_cd() { not_yet iso-cd; }
+case_triaxial_cd() { not_yet triaxial-cd; }
+
+# The wet study (wet.toml): one run, the unconfined state at the end of stage 3 (0 Pa, S6) and
+# the confined one at the end of stage 4 (100 Pa, S7), each analysed with f0 = kappa R_max as
+# the reference force; wet_report.py writes wet/summary.json and wet/wet.png.
+case_wet() {
+  run_scenario wet "$here/wet.toml"
+  local f0 label snap
+  f0=$(/usr/bin/python3 -c "import math; print(2 * math.pi * 0.0728 * 1.0e-3)")
+  for label in 0pa 100pa; do
+    snap="$out/wet/snapshots/end_of_stage_$([ "$label" = 0pa ] && echo 3 || echo 4).h5"
+    region=$(region_of "$out/wet" "$snap")
+    echo "$region" > "$out/wet/region-$label"
+    if ! "$SABLE" analyze "$snap" --only forces,coordination,particle-stress,percolation,polarization \
+      --region "$region" --reference-force "$f0" --plot --out "$out/wet/analysis-$label" \
+      2> "$out/wet/analysis-$label.log"; then
+      tail -5 "$out/wet/analysis-$label.log" >&2
+      exit 1
+    fi
+  done
+  /usr/bin/python3 "$here/wet_report.py" "$out"
+}
+
+for c in $cases; do
+  echo "== $c"
+  "case_${c//-/_}"
+done
+/usr/bin/python3 "$here/report.py" "$out" $cases
+echo
+echo "Results: $out/summary.json and $out/force-pdf.png; per case: $out/CASE/analysis/"

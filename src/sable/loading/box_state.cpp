@@ -1,0 +1,70 @@
+#include "sable/loading/box_state.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "sable/loading/servo.hpp"
+
+namespace sable {
+
+namespace {
+
+// The axis a plane wall faces, or -1 for a cylinder or a tilted plane.
+template <int D>
+int facing_axis(const Wall<D>& wall) {
+  if (wall.kind != WallKind::kPlane) return -1;
+  for (int d = 0; d < D; ++d)
+    if (std::abs(std::abs(wall.normal[d]) - 1.0) < 1e-12) return d;
+  return -1;
+}
+
+}  // namespace
+
+template <int D>
+std::optional<BoxState<D>> measure_box(const World<D>& w) {
+  BoxState<D> b;
+  std::array<bool, D> has_lo{}, has_hi{};
+  for (std::size_t k = 0; k < w.walls.size(); ++k) {
+    const Wall<D>& wall = w.walls[k];
+    const int d = facing_axis(wall);
+    if (d < 0) continue;
+    const double x = wall.point[d];
+    if (wall.normal[d] > 0.0 && (!has_lo[d] || x > b.lo[d])) {
+      b.lo[d] = x;
+      b.lo_wall[d] = k;
+      has_lo[d] = true;
+    } else if (wall.normal[d] < 0.0 && (!has_hi[d] || x < b.hi[d])) {
+      b.hi[d] = x;
+      b.hi_wall[d] = k;
+      has_hi[d] = true;
+    }
+  }
+  for (int d = 0; d < D; ++d)
+    if (!has_lo[d] || !has_hi[d]) return std::nullopt;
+  const double depth = D == 2 ? w.thickness : 1.0;
+  b.volume = depth;
+  for (int d = 0; d < D; ++d) {
+    b.volume *= std::max(b.hi[d] - b.lo[d], 0.0);
+    b.stress[d] = 0.5 * (wall_normal_stress(w, b.lo_wall[d]) + wall_normal_stress(w, b.hi_wall[d]));
+  }
+  for (const double r : w.particles.radius)
+    b.grain_volume +=
+        D == 3 ? 4.0 / 3.0 * std::numbers::pi * r * r * r : std::numbers::pi * r * r * depth;
+  b.solid_fraction = b.volume > 0.0 ? b.grain_volume / b.volume : 0.0;
+  return b;
+}
+
+template <int D>
+typename Space<D>::Vec box_strain(const BoxState<D>& now, const BoxState<D>& reference) {
+  const typename Space<D>::Vec l0 = reference.extent();
+  return (l0 - now.extent()).cwiseQuotient(l0);
+}
+
+#define SABLE_BOX_STATE(D)                                          \
+  template std::optional<BoxState<D>> measure_box(const World<D>&); \
+  template typename Space<D>::Vec box_strain(const BoxState<D>&, const BoxState<D>&);
+SABLE_BOX_STATE(2)
+SABLE_BOX_STATE(3)
+#undef SABLE_BOX_STATE
+
+}  // namespace sable
