@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
+#include "run_helpers.hpp"
 #include "sable/core/error.hpp"
 #include "sable/dem/dem_solver.hpp"
 #include "sable/scenario/build.hpp"
@@ -96,4 +98,30 @@ TEST(StageKeys, TranslationalEnergyLeavesOutRotation) {
   const double inertia = 0.4 * w.particles.mass[0] * 1e-6;
   EXPECT_NEAR(kinetic_energy(w), 0.5 * inertia * 2500.0, 1e-12 * inertia * 2500.0);
   EXPECT_EQ(kinetic_energy(w, true), 0.0);
+}
+
+// A run resumed by another scenario takes that scenario's time step (a DEM state continued by
+// CD, say, with its own dt), and says so: 100 steps at 1e-5 s then 50 at 2e-5 s end at
+// t = 2e-3 s (to rounding of 150 additions).
+TEST(StageKeys, ResumeTakesTheScenarioTimeStep) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "sable_test_resume_dt";
+  fs::remove_all(dir);
+  auto text = [&](const std::string& dt, const std::string& stages) {
+    return "[simulation]\ndimension = 3\ndt = " + dt +
+           "\n[domain]\nlo = [0, 0, 0]\nhi = [1, 1, 1]\n"
+           "[[material]]\nname = \"g\"\ndensity = 2500.0\nyoung = 1e8\npoisson = 0.3\n"
+           "[[grains]]\ngenerator = \"list\"\nmaterial = \"g\"\nradius = 1e-3\n"
+           "positions = [[0.5, 0.5, 0.5]]\nvelocity = [0.1, 0, 0]\n" +
+           stages + "[output]\ndir = \"" + dir.string() + "\"\nlog_interval = 0\n";
+  };
+  test::run_text(text("1e-5", "[[stage]]\nsteps = 100\n"));
+  test::QuietRun resume;
+  resume.resume = (dir / "snapshots" / "end_of_stage_1.h5").string();
+  resume.outputs = false;
+  const auto r =
+      test::run_text(text("2e-5", "[[stage]]\nsteps = 100\n[[stage]]\nsteps = 50\n"), resume);
+  EXPECT_EQ(r.steps, 150u);
+  EXPECT_NEAR(r.time, 100 * 1e-5 + 50 * 2e-5, 1e-15);
+  fs::remove_all(dir);
 }

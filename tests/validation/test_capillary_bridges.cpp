@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "../unit/run_helpers.hpp"
@@ -209,6 +211,10 @@ TEST(CapillaryBridges, WetPackingConservesLiquidAndResumesBitIdentical) {
   EXPECT_NEAR(b.bridges + b.films + b.lost, b.total, 1e-12 * b.total);
   EXPECT_GT(b.films, 0.0) << "no bridge broke: the test does not exercise rupture";
   EXPECT_GT(b.bridge_count, 0u);
+  // The bond network goes to ParaView with each bond's bridge volume.
+  std::ifstream vtp(dir / "vtk" / "contacts_0000012000.vtp");
+  const std::string frame((std::istreambuf_iterator<char>(vtp)), std::istreambuf_iterator<char>());
+  EXPECT_NE(frame.find("Name=\"bridge_volume\""), std::string::npos);
 
   test::QuietRun resume = one;
   resume.resume = (dir / "snapshots" / "step_0000010000.h5").string();

@@ -204,9 +204,10 @@ void write_contacts_vtp(const World<D>& world, const std::string& path) {
   using Vec = typename S::Vec;
   const auto& p = world.particles;
   const auto& pl = world.neighbors.pairs;
-  std::vector<double> xyz, fn, fn_vec, ft_vec;
+  std::vector<double> xyz, fn, fn_vec, ft_vec, bridge;
   std::vector<std::int64_t> id_i, id_j;
   std::vector<std::vector<std::int64_t>> lines;
+  const bool wet = pl.bridge.size() == pl.size() && world.neighbors.bridges;
   for (std::size_t k = 0; k < pl.size(); ++k) {
     const std::uint32_t i = pl.i[k], j = pl.j[k];
     if (!nonzero(pl.force[k]) || i >= p.size() || j >= p.size()) continue;
@@ -224,6 +225,7 @@ void write_contacts_vtp(const World<D>& world, const std::string& path) {
     append3(ft_vec, S::to_array(Vec(f - f_n * n)));
     id_i.push_back(p.id[i].index);
     id_j.push_back(p.id[j].index);
+    if (wet) bridge.push_back(pl.bridge[k]);
   }
   Buf b;
   begin_piece(b, {2 * lines.size(), 0, lines.size(), 0});
@@ -233,6 +235,8 @@ void write_contacts_vtp(const World<D>& world, const std::string& path) {
   real_array(b, "tangential_force", 3, ft_vec);
   int_array(b, "Int64", "id_i", id_i);
   int_array(b, "Int64", "id_j", id_j);
+  // Wet law: the liquid-bridge volume of each bond (m^3; -1 where there is none).
+  if (wet) real_array(b, "bridge_volume", 1, bridge);
   fmt::format_to(std::back_inserter(b), "</CellData>\n");
   points_section(b, xyz);
   cells_section(b, "Lines", lines);

@@ -60,6 +60,7 @@ class Runner {
 
  private:
   void setup();
+  void adopt_scenario_steps();
   void open_outputs(bool resuming);
   void start_stage();
   void wet();
@@ -114,8 +115,31 @@ void Runner<D>::setup() {
           fmt::format("warning: {} was written by a different scenario text than "
                       "{}; resuming with the new stages and outputs",
                       opt_.resume, cfg_.path));
+    adopt_scenario_steps();
   }
   if (opt_.write_outputs) open_outputs(!opt_.resume.empty());
+}
+
+// A resumed run takes its time step and neighbour skin from the scenario, not the snapshot:
+// another scenario may continue the state with another solver (a DEM packing relaxed by CD)
+// or step. The same scenario gives the same values, so a plain resume stays bit-identical.
+// The skin never shrinks below the snapshot's (capillary bridges may have raised it); a
+// larger one forces a neighbour rebuild, since the lists only hold pairs within the old one.
+template <int D>
+void Runner<D>::adopt_scenario_steps() {
+  const double dt = cfg_.sim.dt ? *cfg_.sim.dt : automatic_time_step(cfg_, world_);
+  if (dt != world_.dt) {
+    progress_.message(fmt::format(
+        "resuming with the scenario's dt = {:.6g} s (the snapshot's: {:.6g} s)", dt, world_.dt));
+    world_.dt = dt;
+  }
+  double rmax = 0.0;
+  for (double r : world_.particles.radius) rmax = std::max(rmax, r);
+  const double skin = cfg_.sim.skin.value_or(0.5 * rmax);
+  if (skin > world_.neighbors.skin) {
+    world_.neighbors.skin = skin;
+    world_.neighbors.x_ref.clear();  // rebuild at the next step
+  }
 }
 
 template <int D>
