@@ -138,13 +138,43 @@ void DemSolver<D>::compute_forces() {
   }
 }
 
+// The force of touching pair k (centre offset d = x_i - x_j, |d|^2 = dist2 < rsum^2), with
+// `cohesion` (<= 0) added to its normal force, stored in the pair's slots; returns the overlap
+// over the smaller radius. Shared by the dry and the wet pair passes.
+template <int D>
+template <class Normal>
+[[gnu::always_inline]] inline double DemSolver<D>::touch(std::size_t k,
+                                                         const typename Space<D>::Vec& d,
+                                                         double dist2, double rsum,
+                                                         double cohesion) {
+  using S = Space<D>;
+  const auto& p = w_.particles;
+  auto& pl = w_.neighbors.pairs;
+  const std::uint32_t i = pl.i[k], j = pl.j[k];
+  const double dist = std::sqrt(dist2);
+  ContactGeometry<D> g;
+  g.n = d / dist;
+  g.delta = rsum - dist;
+  // Lever arms from each centre to the middle of the overlap.
+  const typename S::Vec arm_i = -(p.radius[i] - 0.5 * g.delta) * g.n;
+  const typename S::Vec arm_j = (p.radius[j] - 0.5 * g.delta) * g.n;
+  g.vrel = p.v[i] + S::spin_velocity(p.w[i], arm_i) - p.v[j] - S::spin_velocity(p.w[j], arm_j);
+  g.r_eff = p.radius[i] * p.radius[j] / rsum;
+  g.m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
+  const PairParams& pp = w_.materials.pair(p.material[i], p.material[j]);
+  const typename S::Vec f = contact_force<D, Normal>(g, pp, w_.model, w_.dt, pl.shear[k], cohesion);
+  pl.force[k] = f;
+  pair_moment_[k] = S::moment(g.n, f);
+  pair_delta_[k] = g.delta;
+  return g.delta / std::min(p.radius[i], p.radius[j]);
+}
+
 template <int D>
 template <class Normal>
 void DemSolver<D>::pair_forces() {
   using S = Space<D>;
   const auto& p = w_.particles;
   auto& pl = w_.neighbors.pairs;
-  const double dt = w_.dt;
   const auto n_pairs = static_cast<std::ptrdiff_t>(pl.size());
   double max_ratio = 0.0;
   std::size_t touching = 0;
@@ -160,22 +190,7 @@ void DemSolver<D>::pair_forces() {
       forget_if_ended(pl, pair_moment_, pair_delta_, k, S::zero_rot());
       continue;
     }
-    const double dist = std::sqrt(dist2);
-    ContactGeometry<D> g;
-    g.n = d / dist;
-    g.delta = rsum - dist;
-    // Lever arms from each centre to the middle of the overlap.
-    const typename S::Vec arm_i = -(p.radius[i] - 0.5 * g.delta) * g.n;
-    const typename S::Vec arm_j = (p.radius[j] - 0.5 * g.delta) * g.n;
-    g.vrel = p.v[i] + S::spin_velocity(p.w[i], arm_i) - p.v[j] - S::spin_velocity(p.w[j], arm_j);
-    g.r_eff = p.radius[i] * p.radius[j] / rsum;
-    g.m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
-    const PairParams& pp = w_.materials.pair(p.material[i], p.material[j]);
-    const typename S::Vec f = contact_force<D, Normal>(g, pp, w_.model, dt, pl.shear[k]);
-    pl.force[k] = f;
-    pair_moment_[k] = S::moment(g.n, f);
-    pair_delta_[k] = g.delta;
-    max_ratio = std::max(max_ratio, g.delta / std::min(p.radius[i], p.radius[j]));
+    max_ratio = std::max(max_ratio, touch<Normal>(k, d, dist2, rsum, 0.0));
     ++touching;
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
@@ -196,7 +211,6 @@ void DemSolver<D>::wet_pair_forces() {
   const CapillaryParams& cap = w_.model.capillary;
   const double kappa = Capillary::kappa(cap);
   const bool forming = w_.liquid.wet();
-  const double dt = w_.dt;
   const auto n_pairs = static_cast<std::ptrdiff_t>(pl.size());
   double max_ratio = 0.0;
   std::size_t touching = 0, events = 0;
@@ -231,23 +245,9 @@ void DemSolver<D>::wet_pair_forces() {
       pair_event_[k] = kBridgeFormed;
       ++events;
     }
-    const double dist = std::sqrt(dist2);
-    ContactGeometry<D> g;
-    g.n = d / dist;
-    g.delta = rsum - dist;
-    const typename S::Vec arm_i = -(p.radius[i] - 0.5 * g.delta) * g.n;
-    const typename S::Vec arm_j = (p.radius[j] - 0.5 * g.delta) * g.n;
-    g.vrel = p.v[i] + S::spin_velocity(p.w[i], arm_i) - p.v[j] - S::spin_velocity(p.w[j], arm_j);
-    g.r_eff = p.radius[i] * p.radius[j] / rsum;
-    g.m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
     const double cohesion =
         volume >= 0.0 || forming ? -kappa * std::sqrt(p.radius[i] * p.radius[j]) : 0.0;
-    const PairParams& pp = w_.materials.pair(p.material[i], p.material[j]);
-    const typename S::Vec f = contact_force<D, Normal>(g, pp, w_.model, dt, pl.shear[k], cohesion);
-    pl.force[k] = f;
-    pair_moment_[k] = S::moment(g.n, f);
-    pair_delta_[k] = g.delta;
-    max_ratio = std::max(max_ratio, g.delta / std::min(p.radius[i], p.radius[j]));
+    max_ratio = std::max(max_ratio, touch<Normal>(k, d, dist2, rsum, cohesion));
     ++touching;
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);

@@ -27,6 +27,9 @@ class DemSolver final : public Solver {
   template <class Normal>
   void wet_pair_forces();
   template <class Normal>
+  double touch(std::size_t k, const typename Space<D>::Vec& d, double dist2, double rsum,
+               double cohesion);
+  template <class Normal>
   void wall_forces();
   void accumulate();
   void settle_liquid();
