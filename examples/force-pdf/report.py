@@ -4,15 +4,21 @@ and analyses of examples/force-pdf/run.sh.
 
 Usage: report.py OUT_DIR [CASE...]   (OUT_DIR = out/force-pdf; every analysed case is reported)
 
+Cases: iso-dem, triaxial-dem (DEM, soft grains) and iso-cd, triaxial-cd (contact dynamics, rigid
+grains: iso-dem's end state relaxed by CD, then compressed by CD). The axial strain of a
+triaxial case is measured from the end state of its own isotropic case (iso-dem for
+triaxial-dem, iso-cd for triaxial-cd).
+
 Statistics are over the bulk: the region of OUT_DIR/CASE/region (the sample's box less two mean
-diameters on every side, written by run.sh). `sable analyze` applies --region to the stress and
-the fabric but computes its force PDF and coordination over every contact, so the bulk values
-are computed here from its contacts.csv (grain-grain contacts whose contact point, taken at
+diameters on every side, written by run.sh). They are computed here from `sable analyze`'s
+contacts.csv (grain-grain contacts whose contact point, taken at
 r_i / (r_i + r_j) along the branch, lies in the region) and particle_stress.csv (positions and
 radii), with the analysis' own definitions (docs/analysis.md section 1): x = f_n / <f_n>,
 beta = 1 / mean(x - 1) over x > 1 (maximum likelihood, standard error beta / sqrt(n)), the
-fraction with x < 1, P(0) = the density over [0, 0.1). The whole-sample values of the CLI are
-reported beside them. Debian's numpy and matplotlib only.
+fraction with x < 1, P(0) = the density over [0, 0.1). `sable analyze --region` now restricts
+its force PDF to the same contacts (grain-grain, point in the region), so its values (reported
+as "whole_sample_cli", the name kept for the file's readers) agree with the bulk ones here;
+its coordination is still over the whole sample, hence bulk_coordination below. Debian's numpy and matplotlib only.
 """
 import csv
 import json
@@ -35,6 +41,12 @@ PAPER = {
     "disappears and the weak forces become nearly uniform.",
 }
 KNOWN = ["iso-dem", "triaxial-dem", "iso-cd", "triaxial-cd", "wet-0pa", "wet-100pa"]
+# The isotropic state each triaxial case starts from: its axial-strain reference.
+ISO_OF = {"triaxial-dem": "iso-dem", "triaxial-cd": "iso-cd"}
+COLORS = {"iso-dem": "tab:blue", "triaxial-dem": "tab:red", "iso-cd": "tab:cyan",
+          "triaxial-cd": "tab:orange"}
+LABELS = {"iso-dem": "isotropic, DEM", "triaxial-dem": "anisotropic (triaxial), DEM",
+          "iso-cd": "isotropic, CD", "triaxial-cd": "anisotropic (triaxial), CD"}
 P0_WINDOW = 0.1
 P_M = 100.0  # Pa, the confining pressure of the dry cases
 
@@ -140,7 +152,7 @@ def box_history(run_dir, start=None):
         out["curve"] = (eps, q / p, s["solid_fraction"])
         # How well the servo holds the lateral walls at p_m once the compression is under way.
         late = eps > 0.01
-        for k in ("sigma_xx_Pa", "sigma_yy_Pa"):
+        for k in ("sigma_xx_Pa", "sigma_yy_Pa") if late.any() else ():
             out[f"max_rel_error_{k[:8]}_after_1pct"] = float(np.max(np.abs(s[k][late] / P_M - 1)))
     return out
 
@@ -170,14 +182,13 @@ def report_case(out, name, iso_series):
         "fabric_anisotropy_region": cli["fabric"]["anisotropy"],
         "love_weber_principal_Pa_region": cli["stress"]["love_weber"]["principal_Pa"],
         "positive_pressure_percolates": cli["percolation"]["positive"]["percolates"],
-        "box": box_history(run_dir, iso_series if name.startswith("triaxial") else None),
+        "box": box_history(run_dir, iso_series.get(ISO_OF.get(name))),
     }
     return res, bulk["x"]
 
 
 def figure(out, xs, results):
     fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.3))
-    colors = {"iso-dem": "tab:blue", "triaxial-dem": "tab:red"}
     for name, x in xs.items():
         edges = np.linspace(0, 7, 36)
         h, _ = np.histogram(x, bins=edges)
@@ -185,9 +196,10 @@ def figure(out, xs, results):
         mid = 0.5 * (edges[1:] + edges[:-1])
         ok = pdf > 0
         bk = results[name]["bulk"]
-        label = "isotropic" if name.startswith("iso") else "anisotropic (triaxial)"
-        col = colors.get(name)
-        a.semilogy(mid[ok], pdf[ok], "o", ms=4, color=col,
+        label = LABELS.get(name, name)
+        col = COLORS.get(name)
+        a.semilogy(mid[ok], pdf[ok], "o" if name.endswith("dem") else "s", ms=4, color=col,
+                   mfc=col if name.endswith("dem") else "none",
                    label=f"{label}: beta = {bk['beta_mle']:.2f}")
         # The fitted truncated exponential over x > 1: P(x) = P(x > 1) beta e^(-beta (x - 1)).
         xt = np.linspace(1, 7, 50)
@@ -201,13 +213,17 @@ def figure(out, xs, results):
     a.legend(fontsize=8)
     tri = [n for n in results if n.startswith("triaxial")]
     if tri:
-        eps, qp, phi = results[tri[0]]["box"].pop("curve")
-        b.plot(100 * eps, qp, color="tab:red", label="q / p")
-        b.set_xlabel("axial strain (%)")
-        b.set_ylabel("q / p")
         b2 = b.twinx()
-        b2.plot(100 * eps, phi, color="tab:gray", label="solid fraction")
-        b2.set_ylabel("solid fraction", color="tab:gray")
+        for n in tri:
+            eps, qp, phi = results[n]["box"].pop("curve")
+            kind = "DEM" if n.endswith("dem") else "CD"
+            b.plot(100 * eps, qp, color=COLORS.get(n), label=f"q / p, {kind}")
+            b2.plot(100 * eps, phi, color=COLORS.get(n), ls="--", alpha=0.6,
+                    label=f"solid fraction, {kind}")
+        b.set_xlabel("axial strain (%)")
+        b.set_ylabel("q / p (solid)")
+        b2.set_ylabel("solid fraction (dashed)", color="tab:gray")
+        b.legend(fontsize=8, loc="lower right")
         b.set_title("triaxial compression at p_m = 100 Pa")
     fig.tight_layout()
     path = os.path.join(out, "force-pdf.png")
@@ -218,9 +234,10 @@ def figure(out, xs, results):
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "out/force-pdf"
     names = [n for n in KNOWN if os.path.exists(os.path.join(out, n, "analysis", "summary.json"))]
-    iso_series = None
-    if os.path.exists(os.path.join(out, "iso-dem", "series.csv")):
-        iso_series = read_columns(os.path.join(out, "iso-dem", "series.csv"))
+    iso_series = {}
+    for iso in set(ISO_OF.values()):
+        if os.path.exists(os.path.join(out, iso, "series.csv")):
+            iso_series[iso] = read_columns(os.path.join(out, iso, "series.csv"))
     results, xs = {}, {}
     for n in names:
         results[n], xs[n] = report_case(out, n, iso_series)
@@ -238,7 +255,12 @@ def main():
               f"{z['z_without_rattlers']:5.2f} {b['weak_peak_at']:7.2f} "
               f"{b['weak_flatness_below_mean']:5.2f} {r['box']['solid_fraction']:6.3f} "
               f"{r['run_seconds']:6.1f}")
-        if "axial_strain" in r["box"]:
+        if "axial_strain" in r["box"] and "max_rel_error_sigma_xx_after_1pct" not in r["box"]:
+            bx = r["box"]
+            print(f"{'':14s} axial strain {100 * bx['axial_strain']:.2f} % at "
+                  f"{bx['axial_strain_rate_per_s']:.3g} /s; q/p peak {bx['q_over_p_peak']:.3f} "
+                  f"at {100 * bx['q_over_p_peak_at_strain']:.1f} %, end {bx['q_over_p_end']:.3f}")
+        elif "axial_strain" in r["box"]:
             bx = r["box"]
             print(f"{'':14s} axial strain {100 * bx['axial_strain']:.2f} % at "
                   f"{bx['axial_strain_rate_per_s']:.3g} /s; q/p peak {bx['q_over_p_peak']:.3f} "
@@ -247,7 +269,8 @@ def main():
                   f"{100 * bx['max_rel_error_sigma_yy_after_1pct']:.1f} % of p_m")
     print(f"paper: beta ~ {PAPER['beta']}, fraction below the mean > "
           f"{PAPER['fraction_below_mean_min']:.0%}")
-    print("bulk: 2 <d> from the walls; all: every contact (sable analyze); z* without rattlers;")
+    print("bulk: 2 <d> from the walls; all: sable analyze's own (every contact in analyses made "
+          "before --region applied to force PDFs, the bulk since); z* without rattlers;")
     print("peak at: where the PDF is highest in bins of 0.1; flat: its lowest over highest bin "
           "below the mean")
     print(f"wrote {os.path.join(out, 'summary.json')} and {fig}")

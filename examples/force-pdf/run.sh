@@ -13,7 +13,9 @@
 #   quick, full   the dry DEM study: iso-dem then triaxial-dem (~3 minutes on one core)
 #   CASE          iso-dem, triaxial-dem (triaxial-dem resumes from iso-dem's end state, which
 #                 must exist); wet (wet.toml: the unconfined and confined wet packings,
-#                 out/force-pdf/wet/{summary.json, wet.png}); later iso-cd, triaxial-cd
+#                 out/force-pdf/wet/{summary.json, wet.png}); iso-cd (contact dynamics:
+#                 iso-dem's end state relaxed with rigid grains, needs iso-dem), triaxial-cd
+#                 (CD triaxial compression of iso-cd's end state, needs iso-cd)
 # Environment: SABLE (the sable binary, default build/release/bin/sable, built if missing),
 # SABLE_THREADS (OpenMP threads per run, default 1).
 set -euo pipefail
@@ -107,12 +109,28 @@ case_triaxial_dem() {
   analyze_end triaxial-dem "$out/triaxial-dem/snapshots/end_of_stage_2.h5"
 }
 
-not_yet() {
-  echo "case $1 is not written yet (see the header of $0)" >&2
-  exit 2
+# The CD cases: iso-cd relaxes iso-dem's end state with contact dynamics (rigid grains, CD
+# wall bodies at p_m) until equilibrium (stage 2 of iso-cd.toml); triaxial-cd compresses that
+# state by CD (stage 3 of triaxial-cd.toml).
+case_iso_cd() {
+  local start="$out/iso-dem/snapshots/end_of_stage_1.h5"
+  if [ ! -f "$start" ]; then
+    echo "iso-cd starts from $start: run iso-dem first" >&2
+    exit 2
+  fi
+  run_scenario iso-cd "$here/iso-cd.toml" "$start"
+  analyze_end iso-cd "$out/iso-cd/snapshots/end_of_stage_2.h5"
 }
-case_iso_cd() { not_yet iso-cd; }
-case_triaxial_cd() { not_yet triaxial-cd; }
+
+case_triaxial_cd() {
+  local start="$out/iso-cd/snapshots/end_of_stage_2.h5"
+  if [ ! -f "$start" ]; then
+    echo "triaxial-cd starts from $start: run iso-cd first" >&2
+    exit 2
+  fi
+  run_scenario triaxial-cd "$here/triaxial-cd.toml" "$start"
+  analyze_end triaxial-cd "$out/triaxial-cd/snapshots/end_of_stage_3.h5"
+}
 
 # The wet study (wet.toml): one run, the unconfined state at the end of stage 3 (0 Pa, S6) and
 # the confined one at the end of stage 4 (100 Pa, S7), each analysed with f0 = kappa R_max as
