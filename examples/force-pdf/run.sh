@@ -10,7 +10,8 @@
 #   summary.json           per case: beta, fraction below the mean, P(0), z, ... (report.py)
 #   force-pdf.png          normal-force PDFs f / <f> on lin-log axes with the exponential fits
 # Usage: examples/force-pdf/run.sh [quick | full | CASE...]
-#   quick, full   the dry DEM study: iso-dem then triaxial-dem (~3 minutes on one core)
+#   quick         the dry DEM study: iso-dem then triaxial-dem (~3 minutes on one core)
+#   full          every case: iso-dem, triaxial-dem, iso-cd, triaxial-cd, wet (~9 minutes)
 #   CASE          iso-dem, triaxial-dem (triaxial-dem resumes from iso-dem's end state, which
 #                 must exist); wet (wet.toml: the unconfined and confined wet packings,
 #                 out/force-pdf/wet/{summary.json, wet.png}); iso-cd (contact dynamics:
@@ -22,7 +23,8 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 mode="${1:-quick}"
 case "$mode" in
-  quick | full) cases="iso-dem triaxial-dem" ;;
+  quick) cases="iso-dem triaxial-dem" ;;
+  full) cases="iso-dem triaxial-dem iso-cd triaxial-cd wet" ;;
   iso-dem | triaxial-dem | iso-cd | triaxial-cd | wet) cases="$*" ;;
   *)
     echo "usage: $0 [quick | full | iso-dem triaxial-dem iso-cd triaxial-cd wet]" >&2
