@@ -101,37 +101,32 @@ case_iso_dem() {
   analyze_end iso-dem "$out/iso-dem/snapshots/end_of_stage_1.h5"
 }
 
-case_triaxial_dem() {
-  local start="$out/iso-dem/snapshots/end_of_stage_1.h5"
+# A case that continues another's end state: NAME SCENARIO START_SNAPSHOT END_STAGE NEEDS.
+resumed_case() {
+  local name="$1" scenario="$2" start="$3" stage="$4" needs="$5"
   if [ ! -f "$start" ]; then
-    echo "triaxial-dem starts from $start: run iso-dem first" >&2
+    echo "$name starts from $start: run $needs first" >&2
     exit 2
   fi
-  run_scenario triaxial-dem "$here/triaxial-dem.toml" "$start"
-  analyze_end triaxial-dem "$out/triaxial-dem/snapshots/end_of_stage_2.h5"
+  run_scenario "$name" "$scenario" "$start"
+  analyze_end "$name" "$out/$name/snapshots/end_of_stage_$stage.h5"
+}
+
+case_triaxial_dem() {
+  resumed_case triaxial-dem "$here/triaxial-dem.toml" \
+    "$out/iso-dem/snapshots/end_of_stage_1.h5" 2 iso-dem
 }
 
 # The CD cases: iso-cd relaxes iso-dem's end state with contact dynamics (rigid grains, CD
 # wall bodies at p_m) until equilibrium (stage 2 of iso-cd.toml); triaxial-cd compresses that
 # state by CD (stage 3 of triaxial-cd.toml).
 case_iso_cd() {
-  local start="$out/iso-dem/snapshots/end_of_stage_1.h5"
-  if [ ! -f "$start" ]; then
-    echo "iso-cd starts from $start: run iso-dem first" >&2
-    exit 2
-  fi
-  run_scenario iso-cd "$here/iso-cd.toml" "$start"
-  analyze_end iso-cd "$out/iso-cd/snapshots/end_of_stage_2.h5"
+  resumed_case iso-cd "$here/iso-cd.toml" "$out/iso-dem/snapshots/end_of_stage_1.h5" 2 iso-dem
 }
 
 case_triaxial_cd() {
-  local start="$out/iso-cd/snapshots/end_of_stage_2.h5"
-  if [ ! -f "$start" ]; then
-    echo "triaxial-cd starts from $start: run iso-cd first" >&2
-    exit 2
-  fi
-  run_scenario triaxial-cd "$here/triaxial-cd.toml" "$start"
-  analyze_end triaxial-cd "$out/triaxial-cd/snapshots/end_of_stage_3.h5"
+  resumed_case triaxial-cd "$here/triaxial-cd.toml" \
+    "$out/iso-cd/snapshots/end_of_stage_2.h5" 3 iso-cd
 }
 
 # The wet study (wet.toml): one run, the unconfined state at the end of stage 3 (0 Pa, S6) and
