@@ -107,10 +107,20 @@ void build_grains(const ScenarioConfig& cfg, World<D>& w) {
     }
     all.insert(all.end(), seeds.begin(), seeds.end());
   }
+  w.neighbors.skin = scenario_skin(cfg, w);
+  w.dt = scenario_time_step(cfg, w);
+}
+
+template <int D>
+double scenario_time_step(const ScenarioConfig& cfg, const World<D>& w) {
+  return cfg.sim.dt ? *cfg.sim.dt : automatic_time_step(cfg, w);
+}
+
+template <int D>
+double scenario_skin(const ScenarioConfig& cfg, const World<D>& w) {
   double rmax = 0.0;
   for (double r : w.particles.radius) rmax = std::max(rmax, r);
-  w.neighbors.skin = cfg.sim.skin.value_or(0.5 * rmax);
-  w.dt = cfg.sim.dt ? *cfg.sim.dt : automatic_time_step(cfg, w);
+  return cfg.sim.skin.value_or(0.5 * rmax);
 }
 
 template <int D>
@@ -175,6 +185,10 @@ template void build_model<2>(const ScenarioConfig&, World<2>&);
 template void build_model<3>(const ScenarioConfig&, World<3>&);
 template void build_grains<2>(const ScenarioConfig&, World<2>&);
 template void build_grains<3>(const ScenarioConfig&, World<3>&);
+template double scenario_time_step<2>(const ScenarioConfig&, const World<2>&);
+template double scenario_time_step<3>(const ScenarioConfig&, const World<3>&);
+template double scenario_skin<2>(const ScenarioConfig&, const World<2>&);
+template double scenario_skin<3>(const ScenarioConfig&, const World<3>&);
 template double automatic_time_step<2>(const ScenarioConfig&, const World<2>&);
 template double automatic_time_step<3>(const ScenarioConfig&, const World<3>&);
 template std::vector<std::size_t> walls_named<2>(const World<2>&, const std::string&);

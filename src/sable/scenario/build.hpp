@@ -24,6 +24,14 @@ void build_grains(const ScenarioConfig& cfg, World<D>& world);
 template <int D>
 double automatic_time_step(const ScenarioConfig& cfg, const World<D>& world);
 
+// The time step and neighbour skin the scenario asks for the world's grains: simulation.dt
+// (else the automatic one) and simulation.skin (else half the largest radius). Used when the
+// grains are built and when a snapshot is resumed.
+template <int D>
+double scenario_time_step(const ScenarioConfig& cfg, const World<D>& world);
+template <int D>
+double scenario_skin(const ScenarioConfig& cfg, const World<D>& world);
+
 // Indices of the walls a stage's `wall_velocity` key names (a box name means all its planes).
 template <int D>
 std::vector<std::size_t> walls_named(const World<D>& world, const std::string& key);

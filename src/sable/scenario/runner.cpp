@@ -127,15 +127,13 @@ void Runner<D>::setup() {
 // larger one forces a neighbour rebuild, since the lists only hold pairs within the old one.
 template <int D>
 void Runner<D>::adopt_scenario_steps() {
-  const double dt = cfg_.sim.dt ? *cfg_.sim.dt : automatic_time_step(cfg_, world_);
+  const double dt = scenario_time_step(cfg_, world_);
   if (dt != world_.dt) {
     progress_.message(fmt::format(
         "resuming with the scenario's dt = {:.6g} s (the snapshot's: {:.6g} s)", dt, world_.dt));
     world_.dt = dt;
   }
-  double rmax = 0.0;
-  for (double r : world_.particles.radius) rmax = std::max(rmax, r);
-  const double skin = cfg_.sim.skin.value_or(0.5 * rmax);
+  const double skin = scenario_skin(cfg_, world_);
   if (skin > world_.neighbors.skin) {
     world_.neighbors.skin = skin;
     world_.neighbors.x_ref.clear();  // rebuild at the next step
