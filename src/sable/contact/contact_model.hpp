@@ -28,6 +28,11 @@ struct ContactModel {
   // lets the dashpot pull at the end of a contact; clipping makes rebounds slightly livelier
   // (nominal e = 0.5 gives about 0.55 with the linear law). See docs/contact-laws.md.
   bool attractive_damping = false;
+  // As the contact turns, the tangential spring is brought into the new tangent plane. True:
+  // turned, its length kept (the spring follows the contact, as in LAMMPS' newer granular
+  // package). False: only projected, so it loses the factor cos(theta) for a turn theta each
+  // step, as in LIGGGHTS 3.8's tangential history, which the peer benchmark compares with.
+  bool keep_spring_length = true;
   double kn = 0.0;  // linear law only (N/m)
   double kt = 0.0;  // linear law only (N/m)
   // Cohesion, added to the normal force of grain pairs (walls are dry). Capillary bridges
@@ -120,7 +125,7 @@ template <int D, class Normal>
   if (s2 > 0.0) {
     shear -= shear.dot(g.n) * g.n;
     const double s2_new = shear.squaredNorm();
-    if (s2_new > 0.0) shear *= std::sqrt(s2 / s2_new);
+    if (model.keep_spring_length && s2_new > 0.0) shear *= std::sqrt(s2 / s2_new);
   }
   shear += vt * dt;
   const double f_max = p.friction * std::abs(fn);

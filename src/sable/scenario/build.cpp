@@ -71,6 +71,7 @@ void build_model(const ScenarioConfig& cfg, World<D>& w) {
   w.model.normal = c.normal == "linear" ? NormalModel::kLinear : NormalModel::kHertz;
   w.model.tangential = c.tangential == "none" ? TangentialModel::kNone : TangentialModel::kHistory;
   w.model.attractive_damping = c.attractive_damping;
+  w.model.keep_spring_length = c.keep_spring_length;
   w.model.kn = c.kn;
   w.model.kt = c.kt;
   w.model.cohesion = c.cohesion == "capillary" ? CohesionModel::kCapillary : CohesionModel::kNone;

@@ -77,6 +77,7 @@ struct ContactConfig {
   std::string normal = "hertz";        // registry name: "hertz" | "linear"
   std::string tangential = "history";  // registry name: "history" | "none"
   bool attractive_damping = false;     // allow the damped normal force to pull (LIGGGHTS does)
+  bool keep_spring_length = true;      // false: only project the spring (LIGGGHTS 3.8)
   double kn = 0.0;                     // linear law normal stiffness (N/m)
   double kt = 0.0;                     // linear law tangential stiffness (N/m)
   // Cohesion sub-model: "none" | "capillary" (liquid bridges, contact/capillary.hpp).

@@ -186,11 +186,12 @@ ContactConfig parse_contact(const Table& root) {
   ContactConfig c;
   const auto t = root.table("contact");
   if (!t) return c;
-  t->check_keys({"normal", "tangential", "attractive_damping", "kn", "kt", "cohesion",
-                 "surface_tension", "contact_angle", "capillary_c", "ruptured_liquid"});
+  t->check_keys({"normal", "tangential", "attractive_damping", "keep_spring_length", "kn", "kt",
+                 "cohesion", "surface_tension", "contact_angle", "capillary_c", "ruptured_liquid"});
   c.normal = t->choice("normal", {"hertz", "linear"}, c.normal);
   c.tangential = t->choice("tangential", {"history", "none"}, c.tangential);
   c.attractive_damping = t->boolean_or("attractive_damping", c.attractive_damping);
+  c.keep_spring_length = t->boolean_or("keep_spring_length", c.keep_spring_length);
   c.loc = t->loc();
   parse_cohesion(*t, c);
   if (c.normal != "linear") {
