@@ -12,6 +12,9 @@
 #     SABLE_BUILD=0   do not (re)build Sable's release preset first
 #     SABLE=PATH      Sable binary (default build/release/bin/sable)
 #     PEERS_OUT=DIR   where runs and tables go (default out/peers)
+#     SEED=N          seed of the lattice jitter, the same for both codes (default 12345, the
+#                     peer's): the floor's share of the weight depends on the bed's history,
+#                     so judging it needs several seeds
 #
 # --stiff: E = 1.5e9 Pa (glass-like; LIGGGHTS needs `hard_particles yes`, already in the input),
 #   dt = 1e-6 s, defaults NSETTLE = 20000, NSTATIC = 5000. Why: the Rayleigh time falls with
@@ -52,6 +55,7 @@ REPEATS="${pos[0]:-${REPEATS:-3}}"
 NSETTLE="${pos[1]:-${NSETTLE:-$def_settle}}"
 NSTATIC="${pos[2]:-${NSTATIC:-$def_static}}"
 CORES="${CORES:-1 2}"
+SEED="${SEED:-12345}"
 SABLE="${SABLE:-$repo/build/release/bin/sable}"
 PEERS_OUT="${PEERS_OUT:-$repo/out/peers}"
 root="$PEERS_OUT/$variant"
@@ -84,7 +88,7 @@ fi
 # ---------------------------------------------------------------- inputs
 rm -rf "$root/runs"
 mkdir -p "$root/runs"
-"$PY" "$here/gen_lattice.py" "$root/lattice20k.data" >/dev/null
+"$PY" "$here/gen_lattice.py" "$root/lattice20k.data" 20000 "$SEED" >/dev/null
 # CSV rows on a common divisor of both stage lengths (<= 1000, LIGGGHTS' thermo interval), so
 # that series.csv has a row at the end of phase (b).
 gcd() { local a=$1 b=$2 t; while [ "$b" -ne 0 ]; do t=$((a % b)); a=$b; b=$t; done; echo "$a"; }
@@ -95,8 +99,9 @@ sed -e "s|^dt = .*# @DT.*|dt = $DT   # @DT|" \
     -e "s|^steps = .*# @NSETTLE.*|steps = $NSETTLE   # @NSETTLE|" \
     -e "s|^steps = .*# @NSTATIC.*|steps = $NSTATIC   # @NSTATIC|" \
     -e "s|^csv_interval = .*# @CSV.*|csv_interval = $csv   # @CSV|" \
+    -e "s|^seed = .*# @SEED.*|seed = $SEED   # @SEED|" \
     "$here/pour.toml" > "$root/pour.toml"
-[ "$(grep -cE '^[a-z_]+ = [0-9.e+-]+   # @[A-Z]+$' "$root/pour.toml")" -eq 5 ] || { echo "pour.toml: tagged lines missing" >&2; exit 1; }
+[ "$(grep -cE '^[a-z_]+ = [0-9.e+-]+   # @[A-Z]+$' "$root/pour.toml")" -eq 6 ] || { echo "pour.toml: tagged lines missing" >&2; exit 1; }
 
 cat > "$root/meta.txt" <<EOF
 variant=$variant
@@ -106,6 +111,7 @@ nsettle=$NSETTLE
 nstatic=$NSTATIC
 repeats=$REPEATS
 cores=$CORES
+seed=$SEED
 date=$(date -u '+%F %H:%M UTC')
 machine=$(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo), load average at start $(cut -d' ' -f1-3 /proc/loadavg)
 liggghts=Debian package liggghts $(dpkg-query -W -f '${Version}' liggghts 2>/dev/null || echo '?'), $(command -v liggghts)

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 # Adapted copy of shared/peers/liggghts/gen_lattice.py for bench/peers/compare.sh.
-# Changed: this header only. The lattice (20,000 spheres, 18 x 18 per layer, spacing 30/18 mm,
-# +-0.06 mm jitter from numpy's default_rng(12345)) is the peer's, byte for byte; Sable's
+# Changed: this header and an optional SEED argument (default 12345, the peer's). The lattice
+# (20,000 spheres, 18 x 18 per layer, spacing 30/18 mm, +-0.06 mm jitter from numpy's
+# default_rng(SEED)) is the peer's, byte for byte for SEED = 12345; Sable's
 # examples/pour.toml reproduces the same positions with its own numpy-PCG64 generator.
 # Needs numpy: run it with /usr/bin/python3 (Debian's python3-numpy).
 """Generate the initial configuration for benchmark A/B ("pour").
@@ -14,7 +15,7 @@ no initial overlap with the walls at x,y = 0 / 0.03 and z = 0.
 
 Writes a LAMMPS/LIGGGHTS data file (atom_style granular / sphere:
   id type diameter density x y z)
-Usage: gen_lattice.py OUTFILE [N]
+Usage: gen_lattice.py OUTFILE [N] [SEED]
 """
 import sys
 import numpy as np
@@ -28,7 +29,8 @@ H = 0.110          # box height (z)
 n = 18
 s = L / n
 jit = 0.06e-3
-rng = np.random.default_rng(12345)
+seed = int(sys.argv[3]) if len(sys.argv) > 3 else 12345
+rng = np.random.default_rng(seed)
 
 pos = []
 k = 0
