@@ -29,9 +29,9 @@ struct ContactModel {
   // (nominal e = 0.5 gives about 0.55 with the linear law). See docs/contact-laws.md.
   bool attractive_damping = false;
   // As the contact turns, the tangential spring is brought into the new tangent plane. True:
-  // turned, its length kept (the spring follows the contact, as in LAMMPS' newer granular
-  // package). False: only projected, so it loses the factor cos(theta) for a turn theta each
-  // step, as in LIGGGHTS 3.8's tangential history, which the peer benchmark compares with.
+  // turned with its length kept (the spring follows the contact). False: only projected, so it
+  // loses the factor cos(theta) for a turn theta each step, as in LIGGGHTS 3.8's tangential
+  // history, which the peer benchmark compares with. DEM only (CD has no spring).
   bool keep_spring_length = true;
   double kn = 0.0;  // linear law only (N/m)
   double kt = 0.0;  // linear law only (N/m)
