@@ -58,6 +58,9 @@ CORES="${CORES:-1 2}"
 SEED="${SEED:-12345}"
 SABLE="${SABLE:-$repo/build/release/bin/sable}"
 PEERS_OUT="${PEERS_OUT:-$repo/out/peers}"
+# Absolute: each code runs from its own run directory, and the inputs are named from there.
+mkdir -p "$PEERS_OUT"
+PEERS_OUT="$(cd "$PEERS_OUT" && pwd)"
 root="$PEERS_OUT/$variant"
 if [ "$variant" = soft ]; then table="$PEERS_OUT/compare.md"; else table="$PEERS_OUT/compare-stiff.md"; fi
 PY=/usr/bin/python3   # Debian's python, where python3-numpy lives (a pyenv python3 may lack numpy)

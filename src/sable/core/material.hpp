@@ -43,6 +43,16 @@ struct PairParams {
   double st_over_sn_sqrt = 0.0;  // sqrt(4 G* / Y*): Hertz gamma_t / gamma_n, precomputed
 };
 
+// The pair table as plain pointer and size, for hot loops (dem/dem_solver.cpp: a local copy
+// cannot be aliased by the loop's stores, so the compiler keeps it in registers).
+struct PairTableView {
+  const PairParams* table;
+  std::size_t n;
+  const PairParams& operator()(MaterialIndex a, MaterialIndex b) const {
+    return table[static_cast<std::size_t>(a) * n + b];
+  }
+};
+
 class MaterialTable {
  public:
   MaterialIndex add(Material m);
@@ -56,6 +66,7 @@ class MaterialTable {
   const PairParams& pair(MaterialIndex a, MaterialIndex b) const {
     return pairs_[static_cast<std::size_t>(a) * materials_.size() + b];
   }
+  PairTableView pair_view() const { return {pairs_.data(), materials_.size()}; }
   const std::vector<Material>& materials() const { return materials_; }
   const std::vector<PairOverride>& overrides() const { return overrides_; }
 

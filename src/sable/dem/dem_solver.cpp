@@ -62,36 +62,52 @@ void DemSolver<D>::step() {
   check_grain_states(w_);
 }
 
+// The grain loops below copy the arrays' addresses into locals first: through
+// w_.particles every store of a vector (Eigen's SSE stores may alias anything) would make
+// the compiler fetch each array's address again (see PairPass).
 template <int D>
 void DemSolver<D>::kick(double h) {
+  using S = Space<D>;
   auto& p = w_.particles;
   const auto g = w_.gravity;
   const auto n = static_cast<std::ptrdiff_t>(p.size());
+  typename S::Vec* const v = p.v.data();
+  typename S::Rot* const w = p.w.data();
+  const typename S::Vec* const f = p.f.data();
+  const typename S::Rot* const t = p.t.data();
+  const double* const inv_mass = p.inv_mass.data();
+  const double* const inv_inertia = p.inv_inertia.data();
   // Background damping -m nu v, -I nu w, taken implicitly (v_new feels it): stable for any nu h.
   const double keep = w_.viscous_rate > 0.0 ? 1.0 / (1.0 + w_.viscous_rate * h) : 1.0;
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (std::ptrdiff_t kk = 0; kk < n; ++kk) {
     const auto k = static_cast<std::size_t>(kk);
-    if (p.inv_mass[k] == 0.0) continue;
-    p.v[k] += h * (p.f[k] * p.inv_mass[k] + g);
-    p.w[k] += h * p.inv_inertia[k] * p.t[k];
+    if (inv_mass[k] == 0.0) continue;
+    v[k] += h * (f[k] * inv_mass[k] + g);
+    w[k] += h * inv_inertia[k] * t[k];
     if (keep != 1.0) {
-      p.v[k] *= keep;
-      p.w[k] *= keep;
+      v[k] *= keep;
+      w[k] *= keep;
     }
   }
 }
 
 template <int D>
 void DemSolver<D>::drift(double h) {
+  using S = Space<D>;
   auto& p = w_.particles;
   const auto n = static_cast<std::ptrdiff_t>(p.size());
+  typename S::Vec* const x = p.x.data();
+  typename S::Orientation* const q = p.q.data();
+  const typename S::Vec* const v = p.v.data();
+  const typename S::Rot* const w = p.w.data();
+  const double* const inv_mass = p.inv_mass.data();
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (std::ptrdiff_t kk = 0; kk < n; ++kk) {
     const auto k = static_cast<std::size_t>(kk);
-    if (p.inv_mass[k] == 0.0) continue;
-    p.x[k] += h * p.v[k];
-    p.q[k] = Space<D>::rotate(p.q[k], p.w[k], h);
+    if (inv_mass[k] == 0.0) continue;
+    x[k] += h * v[k];
+    q[k] = S::rotate(q[k], w[k], h);
   }
 }
 
@@ -138,59 +154,105 @@ void DemSolver<D>::compute_forces() {
   }
 }
 
-// The force of touching pair k (centre offset d = x_i - x_j, |d|^2 = dist2 < rsum^2), with
-// `cohesion` (<= 0) added to its normal force, stored in the pair's slots; returns the overlap
-// over the smaller radius. Shared by the dry and the wet pair passes.
+// What the grain-pair passes read and write, as raw pointers and plain copies taken once per
+// pass. Reached through `this` and std::vector instead, every store of a force (Eigen's SSE
+// stores may alias anything) makes the compiler fetch each array's address again: 4 % more
+// instructions in the pass (cachegrind, docs/BENCHMARKS.md). Each thread works on its own
+// copy (firstprivate).
 template <int D>
-template <class Normal>
-[[gnu::always_inline]] inline double DemSolver<D>::touch(std::size_t k,
-                                                         const typename Space<D>::Vec& d,
-                                                         double dist2, double rsum,
-                                                         double cohesion) {
+struct DemSolver<D>::PairPass {
   using S = Space<D>;
-  const auto& p = w_.particles;
+  using Vec = typename S::Vec;
+  using Rot = typename S::Rot;
+  const Vec *x, *v;
+  const Rot* w;
+  const double *radius, *inv_mass;
+  const MaterialIndex* material;
+  const std::uint32_t *i, *j;
+  Vec *shear, *force;
+  Rot* moment;
+  double* delta;
+  PairTableView materials;
+  ContactModel model;
+  double dt;
+
+  // Entry k is apart: as forget_if_ended().
+  void forget(std::size_t k) const {
+    if (delta[k] == 0.0) return;
+    shear[k].setZero();
+    force[k].setZero();
+    moment[k] = S::zero_rot();
+    delta[k] = 0.0;
+  }
+
+  // The force of touching pair k (centre offset d = x_i - x_j, |d|^2 = dist2 < rsum^2), with
+  // `cohesion` (<= 0) added to its normal force, stored in the pair's slots; returns the
+  // overlap over the smaller radius. Shared by the dry and the wet pair passes.
+  template <class Normal>
+  [[gnu::always_inline]] double touch(std::size_t k, const Vec& d, double dist2, double rsum,
+                                      double cohesion) const {
+    const std::uint32_t a = i[k], b = j[k];
+    const double dist = std::sqrt(dist2);
+    ContactGeometry<D> g;
+    g.n = d / dist;
+    g.delta = rsum - dist;
+    // Lever arms from each centre to the middle of the overlap.
+    const Vec arm_i = -(radius[a] - 0.5 * g.delta) * g.n;
+    const Vec arm_j = (radius[b] - 0.5 * g.delta) * g.n;
+    g.vrel = v[a] + S::spin_velocity(w[a], arm_i) - v[b] - S::spin_velocity(w[b], arm_j);
+    g.r_eff = radius[a] * radius[b] / rsum;
+    g.m_eff = 1.0 / (inv_mass[a] + inv_mass[b]);
+    const PairParams& pp = materials(material[a], material[b]);
+    const Vec f = contact_force<D, Normal>(g, pp, model, dt, shear[k], cohesion);
+    force[k] = f;
+    moment[k] = S::moment(g.n, f);
+    delta[k] = g.delta;
+    return g.delta / std::min(radius[a], radius[b]);
+  }
+};
+
+template <int D>
+typename DemSolver<D>::PairPass DemSolver<D>::pair_pass() {
+  auto& p = w_.particles;
   auto& pl = w_.neighbors.pairs;
-  const std::uint32_t i = pl.i[k], j = pl.j[k];
-  const double dist = std::sqrt(dist2);
-  ContactGeometry<D> g;
-  g.n = d / dist;
-  g.delta = rsum - dist;
-  // Lever arms from each centre to the middle of the overlap.
-  const typename S::Vec arm_i = -(p.radius[i] - 0.5 * g.delta) * g.n;
-  const typename S::Vec arm_j = (p.radius[j] - 0.5 * g.delta) * g.n;
-  g.vrel = p.v[i] + S::spin_velocity(p.w[i], arm_i) - p.v[j] - S::spin_velocity(p.w[j], arm_j);
-  g.r_eff = p.radius[i] * p.radius[j] / rsum;
-  g.m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
-  const PairParams& pp = w_.materials.pair(p.material[i], p.material[j]);
-  const typename S::Vec f = contact_force<D, Normal>(g, pp, w_.model, w_.dt, pl.shear[k], cohesion);
-  pl.force[k] = f;
-  pair_moment_[k] = S::moment(g.n, f);
-  pair_delta_[k] = g.delta;
-  return g.delta / std::min(p.radius[i], p.radius[j]);
+  return {p.x.data(),
+          p.v.data(),
+          p.w.data(),
+          p.radius.data(),
+          p.inv_mass.data(),
+          p.material.data(),
+          pl.i.data(),
+          pl.j.data(),
+          pl.shear.data(),
+          pl.force.data(),
+          pair_moment_.data(),
+          pair_delta_.data(),
+          w_.materials.pair_view(),
+          w_.model,
+          w_.dt};
 }
 
 template <int D>
 template <class Normal>
 void DemSolver<D>::pair_forces() {
-  using S = Space<D>;
-  const auto& p = w_.particles;
-  auto& pl = w_.neighbors.pairs;
-  const auto n_pairs = static_cast<std::ptrdiff_t>(pl.size());
+  using Vec = typename Space<D>::Vec;
+  PairPass pass = pair_pass();
+  const auto n_pairs = static_cast<std::ptrdiff_t>(w_.neighbors.pairs.size());
   double max_ratio = 0.0;
   std::size_t touching = 0;
-#pragma omp parallel for schedule(static) reduction(max : max_ratio) reduction(+ : touching) \
-    if (n_pairs >= kMinParallelItems)
+#pragma omp parallel for schedule(static) firstprivate(pass) reduction(max : max_ratio) \
+    reduction(+ : touching) if (n_pairs >= kMinParallelItems)
   for (std::ptrdiff_t kk = 0; kk < n_pairs; ++kk) {
     const auto k = static_cast<std::size_t>(kk);
-    const std::uint32_t i = pl.i[k], j = pl.j[k];
-    const typename S::Vec d = p.x[i] - p.x[j];
-    const double rsum = p.radius[i] + p.radius[j];
+    const std::uint32_t i = pass.i[k], j = pass.j[k];
+    const Vec d = pass.x[i] - pass.x[j];
+    const double rsum = pass.radius[i] + pass.radius[j];
     const double dist2 = d.squaredNorm();
     if (dist2 >= rsum * rsum) {
-      forget_if_ended(pl, pair_moment_, pair_delta_, k, S::zero_rot());
+      pass.forget(k);
       continue;
     }
-    max_ratio = std::max(max_ratio, touch<Normal>(k, d, dist2, rsum, 0.0));
+    max_ratio = std::max(max_ratio, pass.template touch<Normal>(k, d, dist2, rsum, 0.0));
     ++touching;
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
@@ -211,10 +273,11 @@ void DemSolver<D>::wet_pair_forces() {
   const CapillaryParams& cap = w_.model.capillary;
   const double kappa = Capillary::kappa(cap);
   const bool forming = w_.liquid.wet();
+  PairPass pass = pair_pass();
   const auto n_pairs = static_cast<std::ptrdiff_t>(pl.size());
   double max_ratio = 0.0;
   std::size_t touching = 0, events = 0;
-#pragma omp parallel for schedule(static) reduction(max : max_ratio) \
+#pragma omp parallel for schedule(static) firstprivate(pass) reduction(max : max_ratio) \
     reduction(+ : touching, events) if (n_pairs >= kMinParallelItems)
   for (std::ptrdiff_t kk = 0; kk < n_pairs; ++kk) {
     const auto k = static_cast<std::size_t>(kk);
@@ -247,7 +310,7 @@ void DemSolver<D>::wet_pair_forces() {
     }
     const double cohesion =
         volume >= 0.0 || forming ? -kappa * std::sqrt(p.radius[i] * p.radius[j]) : 0.0;
-    max_ratio = std::max(max_ratio, touch<Normal>(k, d, dist2, rsum, cohesion));
+    max_ratio = std::max(max_ratio, pass.template touch<Normal>(k, d, dist2, rsum, cohesion));
     ++touching;
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
@@ -334,27 +397,40 @@ void DemSolver<D>::accumulate() {
   auto& p = w_.particles;
   const auto& nl = w_.neighbors;
   const auto n = static_cast<std::ptrdiff_t>(p.size());
+  typename S::Vec* const force = p.f.data();
+  typename S::Rot* const torque = p.t.data();
+  const double* const radius = p.radius.data();
+  const std::uint32_t* const first_begin = nl.first_begin.data();
+  const std::uint32_t* const second_begin = nl.second_begin.data();
+  const std::uint32_t* const second_pairs = nl.second_pairs.data();
+  const std::uint32_t* const wall_begin = nl.wall_begin.data();
+  const typename S::Vec* const pair_force = nl.pairs.force.data();
+  const typename S::Rot* const pair_moment = pair_moment_.data();
+  const double* const pair_delta = pair_delta_.data();
+  const typename S::Vec* const wall_force = nl.wall_pairs.force.data();
+  const typename S::Rot* const wall_moment = wall_moment_.data();
+  const double* const wall_delta = wall_delta_.data();
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
     const auto i = static_cast<std::size_t>(ii);
     typename S::Vec f = S::zero();
     typename S::Rot t = S::zero_rot();
-    const double r = p.radius[i];
-    for (std::uint32_t k = nl.first_begin[i]; k < nl.first_begin[i + 1]; ++k) {
-      f += nl.pairs.force[k];
-      t -= (r - 0.5 * pair_delta_[k]) * pair_moment_[k];
+    const double r = radius[i];
+    for (std::uint32_t k = first_begin[i]; k < first_begin[i + 1]; ++k) {
+      f += pair_force[k];
+      t -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
     }
-    for (std::uint32_t s = nl.second_begin[i]; s < nl.second_begin[i + 1]; ++s) {
-      const std::uint32_t k = nl.second_pairs[s];
-      f -= nl.pairs.force[k];
-      t -= (r - 0.5 * pair_delta_[k]) * pair_moment_[k];
+    for (std::uint32_t s = second_begin[i]; s < second_begin[i + 1]; ++s) {
+      const std::uint32_t k = second_pairs[s];
+      f -= pair_force[k];
+      t -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
     }
-    for (std::uint32_t k = nl.wall_begin[i]; k < nl.wall_begin[i + 1]; ++k) {
-      f += nl.wall_pairs.force[k];
-      t -= (r - 0.5 * wall_delta_[k]) * wall_moment_[k];
+    for (std::uint32_t k = wall_begin[i]; k < wall_begin[i + 1]; ++k) {
+      f += wall_force[k];
+      t -= (r - 0.5 * wall_delta[k]) * wall_moment[k];
     }
-    p.f[i] = f;
-    p.t[i] = t;
+    force[i] = f;
+    torque[i] = t;
   }
   // Walls: a short sequential sum in list order (deterministic).
   for (auto& wall : w_.walls) wall.force.setZero();

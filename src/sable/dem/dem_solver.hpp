@@ -26,9 +26,8 @@ class DemSolver final : public Solver {
   void pair_forces();
   template <class Normal>
   void wet_pair_forces();
-  template <class Normal>
-  double touch(std::size_t k, const typename Space<D>::Vec& d, double dist2, double rsum,
-               double cohesion);
+  struct PairPass;
+  PairPass pair_pass();
   template <class Normal>
   void wall_forces();
   void accumulate();
