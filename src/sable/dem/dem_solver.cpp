@@ -293,7 +293,7 @@ void DemSolver<D>::wet_pair_forces() {
           pair_event_[k] = kBridgeBroken;
           ++events;
         }
-        forget_if_ended(pl, pair_moment_, pair_delta_, k, S::zero_rot());
+        pass.forget(k);
         continue;
       }
       pl.shear[k].setZero();
