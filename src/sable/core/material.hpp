@@ -63,9 +63,7 @@ class MaterialTable {
   std::size_t size() const { return materials_.size(); }
   const Material& operator[](MaterialIndex i) const { return materials_[i]; }
   std::optional<MaterialIndex> find(const std::string& name) const;
-  const PairParams& pair(MaterialIndex a, MaterialIndex b) const {
-    return pairs_[static_cast<std::size_t>(a) * materials_.size() + b];
-  }
+  const PairParams& pair(MaterialIndex a, MaterialIndex b) const { return pair_view()(a, b); }
   PairTableView pair_view() const { return {pairs_.data(), materials_.size()}; }
   const std::vector<Material>& materials() const { return materials_; }
   const std::vector<PairOverride>& overrides() const { return overrides_; }

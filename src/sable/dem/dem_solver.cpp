@@ -17,12 +17,13 @@ namespace {
 
 // Entry k is apart. A contact that has just ended forgets its history; entries already apart
 // hold zeros and are not written again (most candidates are apart: this saves bandwidth).
-template <class List, class Rot>
-void forget_if_ended(List& list, std::vector<Rot>& moment, std::vector<double>& delta,
-                     std::size_t k, const Rot& zero) {
+// Grain pairs and wall pairs alike, through their arrays' addresses (see PairPass).
+template <class Vec, class Rot>
+void forget_if_ended(Vec* shear, Vec* force, Rot* moment, double* delta, std::size_t k,
+                     const Rot& zero) {
   if (delta[k] == 0.0) return;
-  list.shear[k].setZero();
-  list.force[k].setZero();
+  shear[k].setZero();
+  force[k].setZero();
   moment[k] = zero;
   delta[k] = 0.0;
 }
@@ -176,13 +177,8 @@ struct DemSolver<D>::PairPass {
   ContactModel model;
   double dt;
 
-  // Entry k is apart: as forget_if_ended().
   void forget(std::size_t k) const {
-    if (delta[k] == 0.0) return;
-    shear[k].setZero();
-    force[k].setZero();
-    moment[k] = S::zero_rot();
-    delta[k] = 0.0;
+    forget_if_ended(shear, force, moment, delta, k, S::zero_rot());
   }
 
   // The force of touching pair k (centre offset d = x_i - x_j, |d|^2 = dist2 < rsum^2), with
@@ -370,7 +366,8 @@ void DemSolver<D>::wall_forces() {
     const double dist = wall.distance(p.x[i], g.n);
     g.delta = p.radius[i] - dist;
     if (g.delta <= 0.0) {
-      forget_if_ended(wl, wall_moment_, wall_delta_, k, S::zero_rot());
+      forget_if_ended(wl.shear.data(), wl.force.data(), wall_moment_.data(), wall_delta_.data(), k,
+                      S::zero_rot());
       continue;
     }
     const typename S::Vec arm_i = -(p.radius[i] - 0.5 * g.delta) * g.n;
