@@ -200,25 +200,10 @@ void NeighborList<D>::build(const ParticleStore<D>& p, const std::vector<Wall<D>
 
 template <int D>
 void NeighborList<D>::update_incidence(std::size_t n) {
-  if (incidence_valid_ && first_begin.size() == n + 1) return;
-  first_begin.assign(n + 1, 0);
-  second_begin.assign(n + 1, 0);
+  if (incidence_valid_ && wall_begin.size() == n + 1) return;
   wall_begin.assign(n + 1, 0);
-  for (std::size_t k = 0; k < pairs.size(); ++k) {
-    ++first_begin[pairs.i[k] + 1];
-    ++second_begin[pairs.j[k] + 1];
-  }
   for (std::size_t k = 0; k < wall_pairs.size(); ++k) ++wall_begin[wall_pairs.i[k] + 1];
-  for (std::size_t i = 0; i < n; ++i) {
-    first_begin[i + 1] += first_begin[i];
-    second_begin[i + 1] += second_begin[i];
-    wall_begin[i + 1] += wall_begin[i];
-  }
-  // Counting sort of pair indices by their second member; k ascends within each grain.
-  second_pairs.resize(pairs.size());
-  scratch_.assign(second_begin.begin(), second_begin.end() - 1);
-  for (std::size_t k = 0; k < pairs.size(); ++k)
-    second_pairs[scratch_[pairs.j[k]]++] = static_cast<std::uint32_t>(k);
+  for (std::size_t i = 0; i < n; ++i) wall_begin[i + 1] += wall_begin[i];
   incidence_valid_ = true;
 }
 

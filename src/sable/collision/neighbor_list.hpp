@@ -75,12 +75,11 @@ class NeighborList {
   bool bridges = false;                        // pairs carry a bridge volume (capillary law)
   std::vector<DroppedBridge> dropped_bridges;  // filled by build(), consumed by the solver
 
-  // Incidence of the sorted lists, derived from them (never saved): grain i is the first
-  // member of pairs [first_begin[i], first_begin[i+1]), the second member of pairs
-  // second_pairs[second_begin[i] .. second_begin[i+1]) (ascending), and the grain of wall
-  // pairs [wall_begin[i], wall_begin[i+1]). Solvers sum each grain's forces in this fixed
-  // order, which makes results independent of the number of threads.
-  std::vector<std::uint32_t> first_begin, second_begin, second_pairs, wall_begin;
+  // Incidence of the wall list, derived from it (never saved): grain i is the grain of wall
+  // pairs [wall_begin[i], wall_begin[i+1]). The DEM solver sums each grain's forces in this
+  // fixed order (and its grain pairs through dem/near_list.hpp's incidence), which makes
+  // results independent of the number of threads.
+  std::vector<std::uint32_t> wall_begin;
   // Recompute the incidence if the lists changed since it was last made.
   void update_incidence(std::size_t n_grains);
 

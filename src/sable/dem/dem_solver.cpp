@@ -113,8 +113,9 @@ void DemSolver<D>::drift(double h) {
 }
 
 // Forces in two passes, so that the result does not depend on the number of threads:
-//   1. per contact (in parallel): the force on its first grain, written into the contact's
-//      own slot together with n x F and the overlap (for the torques);
+//   1. per contact (in parallel) of the near list (the candidates that can touch now, see
+//      dem/near_list.hpp): the force on its first grain, written into the contact's own slot
+//      together with n x F and the overlap (for the torques);
 //   2. per grain (in parallel): the sum of its contacts' forces and torques, always in the
 //      same order (first-member pairs, second-member pairs, wall pairs, by ascending index).
 // No atomics, no per-thread force copies, and no race: each pass writes only its own items.
@@ -136,6 +137,16 @@ void DemSolver<D>::compute_forces() {
   }
   diag_ = StepDiagnostics{};
   const bool wet = nl.bridges && nl.pairs.bridge.size() == nl.pairs.size();
+  {
+    auto scope = timers_.time(Phase::kNeighbors);
+    if (near_.stale(w_.particles, nl, wet)) {
+      // An entry left out is apart: clear it as the force pass would have.
+      near_.remake(w_.particles, nl, w_.dt, wet, [&](std::size_t k) {
+        forget_if_ended(nl.pairs.shear.data(), nl.pairs.force.data(), pair_moment_.data(),
+                        pair_delta_.data(), k, Space<D>::zero_rot());
+      });
+    }
+  }
   {
     auto scope = timers_.time(Phase::kForces);
     const bool hertz = w_.model.normal == NormalModel::kHertz;
@@ -233,13 +244,14 @@ template <class Normal>
 void DemSolver<D>::pair_forces() {
   using Vec = typename Space<D>::Vec;
   PairPass pass = pair_pass();
-  const auto n_pairs = static_cast<std::ptrdiff_t>(w_.neighbors.pairs.size());
+  const std::uint32_t* const near = near_.index.data();
+  const auto n_near = static_cast<std::ptrdiff_t>(near_.index.size());
   double max_ratio = 0.0;
   std::size_t touching = 0;
 #pragma omp parallel for schedule(static) firstprivate(pass) reduction(max : max_ratio) \
-    reduction(+ : touching) if (n_pairs >= kMinParallelItems)
-  for (std::ptrdiff_t kk = 0; kk < n_pairs; ++kk) {
-    const auto k = static_cast<std::size_t>(kk);
+    reduction(+ : touching) if (n_near >= kMinParallelItems)
+  for (std::ptrdiff_t m = 0; m < n_near; ++m) {
+    const std::size_t k = near[m];
     const std::uint32_t i = pass.i[k], j = pass.j[k];
     const Vec d = pass.x[i] - pass.x[j];
     const double rsum = pass.radius[i] + pass.radius[j];
@@ -270,13 +282,14 @@ void DemSolver<D>::wet_pair_forces() {
   const double kappa = Capillary::kappa(cap);
   const bool forming = w_.liquid.wet();
   PairPass pass = pair_pass();
-  const auto n_pairs = static_cast<std::ptrdiff_t>(pl.size());
+  const std::uint32_t* const near = near_.index.data();  // every entry: a wet run keeps all
+  const auto n_near = static_cast<std::ptrdiff_t>(near_.index.size());
   double max_ratio = 0.0;
   std::size_t touching = 0, events = 0;
 #pragma omp parallel for schedule(static) firstprivate(pass) reduction(max : max_ratio) \
-    reduction(+ : touching, events) if (n_pairs >= kMinParallelItems)
-  for (std::ptrdiff_t kk = 0; kk < n_pairs; ++kk) {
-    const auto k = static_cast<std::size_t>(kk);
+    reduction(+ : touching, events) if (n_near >= kMinParallelItems)
+  for (std::ptrdiff_t m = 0; m < n_near; ++m) {
+    const std::size_t k = near[m];
     const std::uint32_t i = pl.i[k], j = pl.j[k];
     const typename S::Vec d = p.x[i] - p.x[j];
     const double rsum = p.radius[i] + p.radius[j];
@@ -397,9 +410,10 @@ void DemSolver<D>::accumulate() {
   typename S::Vec* const force = p.f.data();
   typename S::Rot* const torque = p.t.data();
   const double* const radius = p.radius.data();
-  const std::uint32_t* const first_begin = nl.first_begin.data();
-  const std::uint32_t* const second_begin = nl.second_begin.data();
-  const std::uint32_t* const second_pairs = nl.second_pairs.data();
+  const std::uint32_t* const near = near_.index.data();
+  const std::uint32_t* const first_begin = near_.first_begin.data();
+  const std::uint32_t* const second_begin = near_.second_begin.data();
+  const std::uint32_t* const second_pairs = near_.second_pairs.data();
   const std::uint32_t* const wall_begin = nl.wall_begin.data();
   const typename S::Vec* const pair_force = nl.pairs.force.data();
   const typename S::Rot* const pair_moment = pair_moment_.data();
@@ -413,7 +427,8 @@ void DemSolver<D>::accumulate() {
     typename S::Vec f = S::zero();
     typename S::Rot t = S::zero_rot();
     const double r = radius[i];
-    for (std::uint32_t k = first_begin[i]; k < first_begin[i + 1]; ++k) {
+    for (std::uint32_t m = first_begin[i]; m < first_begin[i + 1]; ++m) {
+      const std::uint32_t k = near[m];
       f += pair_force[k];
       t -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
     }

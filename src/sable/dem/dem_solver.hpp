@@ -1,6 +1,7 @@
 // Soft-contact DEM: velocity Verlet over grains, contact forces from the World's contact law.
 #pragma once
 
+#include "sable/dem/near_list.hpp"
 #include "sable/world/solver.hpp"
 #include "sable/world/world.hpp"
 
@@ -44,6 +45,7 @@ class DemSolver final : public Solver {
   std::vector<std::uint8_t> pair_event_;
   std::size_t events_ = 0;
   std::uint64_t scratch_build_ = ~std::uint64_t{0};
+  NearList<D> near_;  // the pair entries the force pass visits (dem/near_list.hpp)
 };
 
 }  // namespace sable
