@@ -19,33 +19,17 @@
 #include "sable/core/rng.hpp"
 #include "sable/dem/near_list.hpp"
 
+#include "random_geometry.hpp"
+
 namespace {
 
 template <int D>
 using Vec = typename sable::Space<D>::Vec;
 using Entries = std::vector<std::uint32_t>;
 
-template <int D>
-Vec<D> random_vec(sable::Rng& rng, double lo, double hi) {
-  Vec<D> v;
-  for (int d = 0; d < D; ++d) v[d] = rng.uniform(lo, hi);
-  return v;
-}
-
-// A unit vector in a uniformly random direction.
-template <int D>
-Vec<D> random_dir(sable::Rng& rng) {
-  Vec<D> v;
-  do v = random_vec<D>(rng, -1.0, 1.0);
-  while (v.squaredNorm() > 1.0 || v.squaredNorm() < 1e-6);
-  return v.normalized();
-}
-
-// A random vector of length below `len`, in a uniformly random direction.
-template <int D>
-Vec<D> random_step(sable::Rng& rng, double len) {
-  return random_dir<D>(rng) * (len * rng.uniform());
-}
+using sable::test::random_dir;
+using sable::test::random_step;
+using sable::test::random_vec;
 
 // Polydisperse grains at rest inside [0, 1]^D.
 template <int D>

@@ -146,6 +146,7 @@ void DemSolver<D>::compute_forces() {
                         pair_delta_.data(), k, Space<D>::zero_rot());
       });
     }
+    diag_.near_remakes = near_.remakes;
   }
   {
     auto scope = timers_.time(Phase::kForces);
@@ -203,10 +204,11 @@ struct DemSolver<D>::PairPass {
     ContactGeometry<D> g;
     g.n = d / dist;
     g.delta = rsum - dist;
-    // Lever arms from each centre to the middle of the overlap.
-    const Vec arm_i = -(radius[a] - 0.5 * g.delta) * g.n;
-    const Vec arm_j = (radius[b] - 0.5 * g.delta) * g.n;
-    g.vrel = v[a] + S::spin_velocity(w[a], arm_i) - v[b] - S::spin_velocity(w[b], arm_j);
+    // Lever arms from each centre to the middle of the overlap: -(R_i - delta/2) n for i,
+    // +(R_j - delta/2) n for j, so the contact points' velocity difference is
+    // v_i - v_j - ((R_i - delta/2) w_i + (R_j - delta/2) w_j) x n: one cross product.
+    const double lever_i = radius[a] - 0.5 * g.delta, lever_j = radius[b] - 0.5 * g.delta;
+    g.vrel = v[a] - v[b] - S::spin_velocity(lever_i * w[a] + lever_j * w[b], g.n);
     g.r_eff = radius[a] * radius[b] / rsum;
     g.m_eff = 1.0 / (inv_mass[a] + inv_mass[b]);
     const PairParams& pp = materials(material[a], material[b]);
@@ -383,8 +385,8 @@ void DemSolver<D>::wall_forces() {
                       S::zero_rot());
       continue;
     }
-    const typename S::Vec arm_i = -(p.radius[i] - 0.5 * g.delta) * g.n;
-    g.vrel = p.v[i] + S::spin_velocity(p.w[i], arm_i) - wall.velocity;
+    // The lever arm is -(R_i - delta/2) n (see PairPass::touch).
+    g.vrel = p.v[i] - wall.velocity - S::spin_velocity((p.radius[i] - 0.5 * g.delta) * p.w[i], g.n);
     g.r_eff = p.radius[i];
     g.m_eff = p.mass[i];
     const PairParams& pp = w_.materials.pair(p.material[i], wall.material);

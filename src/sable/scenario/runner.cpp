@@ -347,11 +347,13 @@ std::string Runner<D>::stage_summary(const StageClock& c) const {
     phases += fmt::format("{}{} {:.0f}%", k ? ", " : "", kPhaseNames[k],
                           total > 0 ? 100.0 * t / total : 0.0);
   }
+  const std::uint64_t remakes = solver_->diagnostics().near_remakes;
   return fmt::format(
-      "stage '{}' done: {} steps in {:.2f} s, {:.4g} grain-steps/s ({}); {} neighbour builds so "
-      "far{}",
+      "stage '{}' done: {} steps in {:.2f} s, {:.4g} grain-steps/s ({}); {} neighbour builds{} "
+      "so far{}",
       cfg_.stages[pos_.stage].name, steps, secs, secs > 0 ? grain_steps / secs : 0.0, phases,
-      world_.neighbors.builds, box_text(world_, box_ref_));
+      world_.neighbors.builds, remakes > 0 ? fmt::format(" and {} near-list remakes", remakes) : "",
+      box_text(world_, box_ref_));
 }
 
 template <int D>

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -17,6 +18,9 @@ struct StepDiagnostics {
   int iterations = 0;
   double residual = 0.0;
   bool converged = true;
+  // DEM: near-list remakes since the solver started (dem/near_list.hpp; a resumed run starts
+  // again from 0), a running count, not per step.
+  std::uint64_t near_remakes = 0;
 };
 
 // A wall the solver moves as a rigid body with one translational degree of freedom along its
