@@ -19,7 +19,7 @@
 #include "sable/core/rng.hpp"
 #include "sable/dem/near_list.hpp"
 
-#include "random_geometry.hpp"
+#include "geometry_helpers.hpp"
 
 namespace {
 
@@ -36,8 +36,7 @@ template <int D>
 sable::ParticleStore<D> random_grains(std::uint64_t seed, std::size_t n, double rmin, double rmax) {
   sable::Rng rng(seed);
   sable::ParticleStore<D> p;
-  for (std::size_t k = 0; k < n; ++k)
-    p.add(random_vec<D>(rng, 0.0, 1.0), rng.uniform(rmin, rmax), 2500.0, 0, 1.0);
+  sable::test::add_random_grains(p, rng, n, rmin, rmax);
   return p;
 }
 
@@ -255,25 +254,16 @@ TEST(NearList, StaleCriterion) {
   EXPECT_FALSE(near.stale(p, nl, false));
   const auto x0 = p.x;
 
-  auto approach = [&](double each) {
-    p.x = x0;
-    p.x[0].x() += each * inner;
-    p.x[1].x() -= each * inner;
-    return (p.x[1] - p.x[0]).norm() - 2 * r;  // gap
-  };
-  EXPECT_GT(approach(0.49), 0.0);
-  EXPECT_FALSE(near.stale(p, nl, false));
-  EXPECT_LT(approach(0.51), 0.0);
-  EXPECT_TRUE(near.stale(p, nl, false));
+  const auto moved = [&] { return near.stale(p, nl, false); };
+  sable::test::expect_half_reach_criterion<3>(p, x0, r, inner, moved);
+  p.x[0].x() += 0.51 * inner;  // touching
+  p.x[1].x() -= 0.51 * inner;
   EXPECT_FALSE(nl.needs_rebuild(p, {}));  // only the near list knows
   p.x = x0;
-  p.x[1].y() += 0.49 * inner;
-  EXPECT_FALSE(near.stale(p, nl, false));
-  p.x[1].y() += 0.02 * inner;
-  EXPECT_TRUE(near.stale(p, nl, false));
 
   // Remade touching: listed and quiet again; a rebuild, even in place, makes it stale.
-  approach(0.51);
+  p.x[0].x() += 0.51 * inner;
+  p.x[1].x() -= 0.51 * inner;
   EXPECT_EQ(remake(near, p, nl, 1e-3, false), Entries{});
   EXPECT_EQ(near.index, Entries{0});
   EXPECT_FALSE(near.stale(p, nl, false));

@@ -18,7 +18,7 @@
 #include "sable/core/rng.hpp"
 #include "sable/geometry/walls.hpp"
 
-#include "random_geometry.hpp"
+#include "geometry_helpers.hpp"
 
 namespace {
 
@@ -92,8 +92,7 @@ template <int D>
 sable::ParticleStore<D> random_grains(std::uint64_t seed, std::size_t n, double rmin, double rmax) {
   sable::Rng rng(seed);
   sable::ParticleStore<D> p;
-  for (std::size_t k = 0; k < n; ++k)
-    p.add(random_vec<D>(rng, 0.0, 1.0), rng.uniform(rmin, rmax), 2500.0, 0, 1.0);
+  sable::test::add_random_grains(p, rng, n, rmin, rmax);
   for (std::size_t k = 0; k < 40; ++k) {
     const double c = k < 20 ? -0.35 : 1.6;  // cluster centre, outside the domain box
     p.add(Vec<D>::Constant(c) + random_vec<D>(rng, -0.08, 0.08), rng.uniform(rmin, rmax), 2500.0, 0,
@@ -266,22 +265,8 @@ TEST(NeighborList, NeedsRebuildCriterion) {
   EXPECT_EQ(nl.wall_pairs.size(), 0u);
   const auto x0 = p.x;
 
-  auto approach = [&](double each) {
-    p.x = x0;
-    p.x[0].x() += each * skin;
-    p.x[1].x() -= each * skin;
-    return (p.x[1] - p.x[0]).norm() - 2 * r;  // gap
-  };
-  EXPECT_GT(approach(0.49), 0.0);
-  EXPECT_FALSE(nl.needs_rebuild(p, walls));
-  EXPECT_LT(approach(0.51), 0.0);
-  EXPECT_TRUE(nl.needs_rebuild(p, walls));
-  // A single grain moving by 0.49 / 0.51 skin.
-  p.x = x0;
-  p.x[1].y() += 0.49 * skin;
-  EXPECT_FALSE(nl.needs_rebuild(p, walls));
-  p.x[1].y() += 0.02 * skin;
-  EXPECT_TRUE(nl.needs_rebuild(p, walls));
+  sable::test::expect_half_reach_criterion<3>(p, x0, r, skin,
+                                              [&] { return nl.needs_rebuild(p, walls); });
 
   // A moved wall alone, then together with a grain.
   p.x = x0;
@@ -302,7 +287,9 @@ TEST(NeighborList, NeedsRebuildCriterion) {
 
   // After a rebuild at the touching configuration the pair is listed and all is quiet again.
   walls[0].point = w0;
-  approach(0.51);
+  p.x = x0;
+  p.x[0].x() += 0.51 * skin;  // touching
+  p.x[1].x() -= 0.51 * skin;
   nl.build(p, walls);
   EXPECT_FALSE(nl.needs_rebuild(p, walls));
   ASSERT_EQ(nl.pairs.size(), 1u);
