@@ -7,16 +7,23 @@
 namespace sable {
 
 template <int D>
+double max_displacement2(const std::vector<typename Space<D>::Vec>& x,
+                         const std::vector<typename Space<D>::Vec>& ref) {
+  using Vec = typename Space<D>::Vec;
+  double max_d2 = 0.0;  // a max is exact whatever the order: thread-independent
+  const auto n = static_cast<std::ptrdiff_t>(x.size());
+  const Vec* const xp = x.data();
+  const Vec* const rp = ref.data();
+#pragma omp parallel for schedule(static) reduction(max : max_d2) if (n >= 4096)
+  for (std::ptrdiff_t k = 0; k < n; ++k) max_d2 = std::max(max_d2, (xp[k] - rp[k]).squaredNorm());
+  return max_d2;
+}
+
+template <int D>
 bool NeighborList<D>::needs_rebuild(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls,
                                     double margin) const {
   if (x_ref.size() != p.size() || wall_ref.size() != walls.size()) return true;
-  double max_d2 = 0.0;  // a max is exact whatever the order: thread-independent
-  const auto n = static_cast<std::ptrdiff_t>(p.size());
-#pragma omp parallel for schedule(static) reduction(max : max_d2) if (n >= 4096)
-  for (std::ptrdiff_t k = 0; k < n; ++k) {
-    const auto kk = static_cast<std::size_t>(k);
-    max_d2 = std::max(max_d2, (p.x[kk] - x_ref[kk]).squaredNorm());
-  }
+  const double max_d2 = max_displacement2<D>(p.x, x_ref);
   double max_w2 = 0.0;
   for (std::size_t w = 0; w < walls.size(); ++w)
     max_w2 = std::max(max_w2, (walls[w].point - wall_ref[w]).squaredNorm());
@@ -207,6 +214,10 @@ void NeighborList<D>::update_incidence(std::size_t n) {
   incidence_valid_ = true;
 }
 
+template double max_displacement2<2>(const std::vector<Space<2>::Vec>&,
+                                     const std::vector<Space<2>::Vec>&);
+template double max_displacement2<3>(const std::vector<Space<3>::Vec>&,
+                                     const std::vector<Space<3>::Vec>&);
 template class NeighborList<2>;
 template class NeighborList<3>;
 

@@ -60,6 +60,12 @@ struct WallPairList {
   }
 };
 
+// The largest squared distance between x[k] and ref[k] over all k (same sizes); exact and
+// thread-independent (a max). What the lists' "may an unseen pair touch now?" tests measure.
+template <int D>
+double max_displacement2(const std::vector<typename Space<D>::Vec>& x,
+                         const std::vector<typename Space<D>::Vec>& ref);
+
 template <int D>
 class NeighborList {
  public:

@@ -13,12 +13,7 @@ bool NearList<D>::stale(const ParticleStore<D>& p, const NeighborList<D>& nl, bo
       kept_all_ != keep_all)
     return true;
   if (keep_all) return false;  // every candidate is in: only a rebuild changes that
-  double max_d2 = 0.0;         // a max is exact whatever the order: thread-independent
-  const auto n = static_cast<std::ptrdiff_t>(p.size());
-  const Vec* const x = p.x.data();
-  const Vec* const x_ref = x_ref_.data();
-#pragma omp parallel for schedule(static) reduction(max : max_d2) if (n >= 4096)
-  for (std::ptrdiff_t k = 0; k < n; ++k) max_d2 = std::max(max_d2, (x[k] - x_ref[k]).squaredNorm());
+  const double max_d2 = max_displacement2<D>(p.x, x_ref_);
   // Two grains close in by at most twice the largest displacement.
   return 4.0 * max_d2 >= skin * skin;
 }

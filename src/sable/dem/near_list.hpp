@@ -38,7 +38,8 @@ class NearList {
 
   // Entries of the neighbour list's pairs, ascending; grain i is the first member of entries
   // index[first_begin[i] .. first_begin[i+1]) and the second member of the entries
-  // second_pairs[second_begin[i] .. second_begin[i+1]) (ascending), as in NeighborList.
+  // second_pairs[second_begin[i] .. second_begin[i+1]) (ascending): the fixed order in which
+  // the DEM accumulation sums a grain's contacts, whatever the number of threads.
   std::vector<std::uint32_t> index;
   std::vector<std::uint32_t> first_begin, second_begin, second_pairs;
   double skin = 0.0;          // inner skin of the last remake
