@@ -50,18 +50,18 @@ class NearList {
   bool stale(const ParticleStore<D>& p, const NeighborList<D>& nl, bool keep_all) const;
 
   // Remake from the neighbour list at the current positions; `drop(k)` for every pair entry
-  // k left out (in ascending order). `dt` sizes the inner skin from the fastest grain.
+  // k left out, in parallel (drop(k) may touch entry k only). `dt` sizes the inner skin from
+  // the fastest grain.
   template <class Drop>
   void remake(const ParticleStore<D>& p, const NeighborList<D>& nl, double dt, bool keep_all,
               Drop drop) {
     filter(p, nl, dt, keep_all);
-    std::size_t m = 0;
-    for (std::size_t k = 0; k < nl.pairs.size(); ++k) {
-      if (m < index.size() && index[m] == k)
-        ++m;
-      else
-        drop(k);
-    }
+    const auto n_pairs = static_cast<std::ptrdiff_t>(nl.pairs.size());
+    kept_.assign(nl.pairs.size(), 0);
+    for (std::uint32_t k : index) kept_[k] = 1;
+#pragma omp parallel for schedule(static) if (n_pairs >= 8192)
+    for (std::ptrdiff_t k = 0; k < n_pairs; ++k)
+      if (!kept_[static_cast<std::size_t>(k)]) drop(static_cast<std::size_t>(k));
   }
 
  private:
@@ -74,6 +74,7 @@ class NearList {
   bool kept_all_ = false;
   std::vector<std::uint32_t> scratch_;
   std::vector<std::vector<std::uint32_t>> blocks_;  // per-thread blocks of the filter
+  std::vector<std::uint8_t> kept_;                  // per pair entry: in the near list
 };
 
 }  // namespace sable
