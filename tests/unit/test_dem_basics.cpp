@@ -5,10 +5,13 @@
 #include <filesystem>
 #include <sstream>
 
+#include <omp.h>
+
 #include "sable/core/error.hpp"
 #include "sable/dem/dem_solver.hpp"
 #include "sable/scenario/config.hpp"
 #include "sable/scenario/runner.hpp"
+#include "sable/world/state_hash.hpp"
 
 namespace {
 
@@ -68,6 +71,80 @@ TEST(DemBasics, MovingWallPushesGrain) {
   EXPECT_NEAR(w.walls[0].point.z(), 0.01 * n * w.dt, 1e-12);
   const double weight = w.particles.mass[0] * 9.81;
   EXPECT_NEAR(w.walls[0].force.z(), -weight, 1e-3 * weight);  // the grain's weight, at rest
+}
+
+// A sphere's orientation enters no force, so `track_orientation = false` changes nothing but
+// the orientations: positions, velocities and spins are the same bits (exact: the same
+// operations in the same order), the orientations stay the identity, and with tracking they
+// turn (a grain sliding on a rough floor starts to roll) and stay unit (1e-12: round-off).
+TEST(DemBasics, OrientationTrackingChangesNothingElse) {
+  auto run = [](bool track) {
+    auto w = world_with_material(0.5, 0.5);
+    w.track_orientation = track;
+    const double r = 1e-3;
+    for (int k = 0; k < 3; ++k) {
+      w.particles.add({2.2 * r * k, 0, r}, r, 2500.0, 0, 1.0);
+      w.particles.v.back() = Eigen::Vector3d(0.05 * (k - 1), 0.02, 0);
+    }
+    w.gravity = {0, 0, -9.81};
+    sable::Wall<3> floor;
+    floor.point = Eigen::Vector3d(0, 0, 0);
+    floor.normal = Eigen::Vector3d(0, 0, 1);
+    w.walls.push_back(floor);
+    sable::DemSolver<3> s(w);
+    s.initialize();
+    for (int k = 0; k < 20000; ++k) s.step();
+    return w.particles;
+  };
+  const auto on = run(true), off = run(false);
+  ASSERT_EQ(on.size(), 3u);
+  for (std::size_t k = 0; k < on.size(); ++k) {
+    EXPECT_EQ(on.x[k], off.x[k]);
+    EXPECT_EQ(on.v[k], off.v[k]);
+    EXPECT_EQ(on.w[k], off.w[k]);
+    EXPECT_TRUE(off.q[k].coeffs() == Eigen::Quaterniond::Identity().coeffs());
+    EXPECT_GT(on.q[k].vec().norm(), 1e-3);  // it rolled: turned by more than ~0.002 rad
+    EXPECT_NEAR(on.q[k].norm(), 1.0, 1e-12);
+  }
+}
+
+// The thread count does not change a bit, in a bed where every grain touches its lattice
+// neighbours from the first step (~3 contacts per grain, thousands in all, so the force pass
+// really splits): each thread takes a block of grains and adds forces as it goes; the grains
+// another block reaches are summed afterwards, in the same order (DemSolver::pair_forces).
+// 1, 2, 3 and 4 threads: more blocks, more such grains. Exact equality of the state hash.
+TEST(DemBasics, ThreadCountDoesNotChangeABit) {
+  auto run = [](int threads) {
+    auto w = world_with_material(0.5, 0.5);
+    const double r = 0.2e-3, a = 1.96 * r;  // 2 % overlaps
+    std::uint64_t seed = 12345;
+    auto jitter = [&seed]() {  // a fixed LCG: the same draws for every run
+      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+      return static_cast<double>(seed >> 11) * 0x1.0p-53 - 0.5;
+    };
+    for (int z = 0; z < 12; ++z)
+      for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+          w.particles.add({a * x - 0.004, a * y - 0.004, a * z - 0.004 + r}, r, 2500.0, 0, 1.0);
+          w.particles.v.back() = 0.01 * Eigen::Vector3d(jitter(), jitter(), jitter());
+          w.particles.w.back() = 10.0 * Eigen::Vector3d(jitter(), jitter(), jitter());
+        }
+    w.gravity = {0, 0, -9.81};
+    sable::Wall<3> floor;
+    floor.point = Eigen::Vector3d(0, 0, -0.004);
+    floor.normal = Eigen::Vector3d(0, 0, 1);
+    w.walls.push_back(floor);
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    sable::DemSolver<3> s(w);
+    s.initialize();
+    for (int k = 0; k < 50; ++k) s.step();
+    omp_set_num_threads(before);
+    EXPECT_GT(s.diagnostics().touching, 6000u);  // the pass runs in parallel above 2048
+    return sable::state_hash(w);
+  };
+  const std::uint64_t one = run(1);
+  for (int threads : {2, 3, 4}) EXPECT_EQ(run(threads), one) << threads << " threads";
 }
 
 // Inside a cylinder a grain thrown outwards comes back: the wall's normal points to the axis

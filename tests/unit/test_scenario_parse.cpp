@@ -180,6 +180,11 @@ TEST(ScenarioParse, ValidSimulationAndDomain) {
   EXPECT_EQ(cfg.sim.dt_safety, 0.2);
   EXPECT_EQ(cfg.sim.gravity, (Vec3a{0, 0, -9.81}));
   EXPECT_FALSE(cfg.sim.skin.has_value());
+  EXPECT_TRUE(cfg.sim.track_orientation);  // the default
+  EXPECT_FALSE(
+      parse_scenario(
+          std::string(text).replace(text.find("seed = 7"), 8, "track_orientation = false"), kPath)
+          .sim.track_orientation);
   EXPECT_EQ(cfg.domain.hi, (Vec3a{0.03, 0.03, 0.11}));
   EXPECT_EQ(cfg.domain.loc.line, line_of(text, "[domain]"));
 }
@@ -433,6 +438,7 @@ TEST(ScenarioParse, BadSimulationLimits) {
   EXPECT_TRUE(RejectsEdit("seed = 7", "skin = -1e-3", {"simulation.skin", ">= 0"}));
   EXPECT_TRUE(RejectsEdit("seed = 7", "max_speed = 0", {"simulation.max_speed", "> 0"}));
   EXPECT_TRUE(RejectsEdit("seed = 7", "overlap_warning = -1", {"overlap_warning", "> 0"}));
+  EXPECT_TRUE(RejectsEdit("seed = 7", "track_orientation = 1", {"track_orientation"}));
 }
 
 // Guards: thickness is 2D-only, and must be positive in 2D.

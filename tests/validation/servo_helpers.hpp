@@ -27,7 +27,7 @@ struct Compaction {
   int count = 0;      // grains; 0: 200 in 2D, 250 in 3D
   std::uint64_t max_steps = 400000;
   std::uint64_t check_interval = 500;
-  std::string kinetic_energy_below = "1e-8";  // J
+  std::string kinetic_energy_below = "1e-8";  // J, translational (rattlers may spin forever)
 };
 
 // Radius 1 mm +- 20 %, friction 0.3, 2D thickness 2 mm, walls of the grains' material; the one
@@ -59,7 +59,7 @@ inline std::string compaction_text(const Compaction& c) {
     << "lo = " << lo << "\nhi = " << hi << "\n[[stage]]\nname = \"compact\"\n"
     << "wall_stress = { box = " << c.pressure << " }\nservo_max_velocity = 0.05\n"
     << "kinetic_energy_below = " << c.kinetic_energy_below
-    << "\nstress_tolerance = 0.01\nmax_steps = " << c.max_steps
+    << "\nkinetic_energy_of = \"translation\"\nstress_tolerance = 0.01\nmax_steps = " << c.max_steps
     << "\ncheck_interval = " << c.check_interval << "\n"
     << c.extra_stage_keys << "[output]\ndir = \"" << c.out
     << "\"\ncsv_interval = 0\nlog_interval = 0\n";

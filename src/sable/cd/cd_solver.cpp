@@ -162,7 +162,7 @@ void CdSolver<D>::step() {
     for (std::size_t k = 0; k < p.size(); ++k) {
       if (p.inv_mass[k] == 0.0) continue;
       p.x[k] += h * p.v[k];
-      p.q[k] = S::rotate(p.q[k], p.w[k], h);
+      if (w_.track_orientation) p.q[k] = S::rotate(p.q[k], p.w[k], h);
     }
     for (auto& wall : w_.walls) wall.point += h * wall.velocity;
   }

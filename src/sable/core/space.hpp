@@ -38,16 +38,23 @@ struct Space<3> {
     double c, s;  // cos(|a|/2) and sin(|a|/2) / |a|
     if (a2 < 1e-8) {
       // |a| < 1e-4 rad (every step of a sane run): Taylor series, exact to round-off here,
-      // instead of sin, cos and a division.
-      c = 1.0 - a2 / 8.0 + a2 * a2 / 384.0;
-      s = 0.5 - a2 / 48.0 + a2 * a2 / 3840.0;
+      // instead of sin, cos and a division; multiplied by the reciprocals (a division by 48
+      // is not turned into a multiplication by the compiler: it would round differently).
+      c = 1.0 - a2 * (1.0 / 8.0) + a2 * a2 * (1.0 / 384.0);
+      s = 0.5 - a2 * (1.0 / 48.0) + a2 * a2 * (1.0 / 3840.0);
     } else {
       const double angle = std::sqrt(a2);
       c = std::cos(0.5 * angle);
       s = std::sin(0.5 * angle) / angle;
     }
     const Orientation dq(c, s * a.x(), s * a.y(), s * a.z());
-    return (dq * q).normalized();
+    const Orientation r = dq * q;
+    // dq and q are unit, so |r|^2 = 1 + e with e a few round-offs: one Newton step for
+    // 1/|r|, 1 - e/2, brings |r| back to 1 within round-off, without the square root and four
+    // divisions of normalized(). A quaternion far from unit (read from a file) is normalized.
+    const double n2 = r.squaredNorm();
+    if (std::abs(n2 - 1.0) > 1e-8) return r.normalized();
+    return Orientation(r.coeffs() * (1.5 - 0.5 * n2));
   }
   static Vec from_array(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
   static std::array<double, 3> to_array(const Vec& v) { return {v.x(), v.y(), v.z()}; }

@@ -1,6 +1,9 @@
 #include "sable/dem/dem_solver.hpp"
 
 #include <fmt/format.h>
+#include <omp.h>
+
+#include <algorithm>
 #include <cmath>
 
 #include "sable/contact/liquid.hpp"
@@ -30,6 +33,11 @@ void forget_if_ended(Vec* shear, Vec* force, Rot* moment, double* delta, std::si
 
 }  // namespace
 
+// How the grain-pair passes sum forces per grain (see pair_forces and accumulate): store in
+// the contact's slots only, for the gather (kGather); add to both grains (kScatter); add to
+// the grains not flagged `gathered`, store for the others (kScatterChecked).
+enum class Sum : std::uint8_t { kGather, kScatter, kScatterChecked };
+
 template <int D>
 void DemSolver<D>::initialize() {
   w_.neighbors.build(w_.particles, w_.walls);
@@ -44,8 +52,7 @@ void DemSolver<D>::step() {
   const double h = w_.dt;
   {
     auto scope = timers_.time(Phase::kIntegrate);
-    kick(0.5 * h);
-    drift(h);
+    kick_drift(0.5 * h, h);
     for (auto& wall : w_.walls) wall.point += h * wall.velocity;
   }
   {
@@ -66,12 +73,24 @@ void DemSolver<D>::step() {
 // The grain loops below copy the arrays' addresses into locals first: through
 // w_.particles every store of a vector (Eigen's SSE stores may alias anything) would make
 // the compiler fetch each array's address again (see PairPass).
+
+// v += h a, w += h alpha: the half kicks. Gravity enters as an acceleration here.
 template <int D>
 void DemSolver<D>::kick(double h) {
+  kick_drift(h, 0.0);
+}
+
+// A half kick by h, then (h_drift > 0) a drift by h_drift, in one loop over the grains: the
+// two are the first phase of every step, and one pass reads each grain's velocity once
+// instead of twice. Per grain the operations are those of a kick then a drift.
+template <int D>
+void DemSolver<D>::kick_drift(double h, double h_drift) {
   using S = Space<D>;
   auto& p = w_.particles;
   const auto g = w_.gravity;
   const auto n = static_cast<std::ptrdiff_t>(p.size());
+  typename S::Vec* const x = p.x.data();
+  typename S::Orientation* const q = p.q.data();
   typename S::Vec* const v = p.v.data();
   typename S::Rot* const w = p.w.data();
   const typename S::Vec* const f = p.f.data();
@@ -80,6 +99,7 @@ void DemSolver<D>::kick(double h) {
   const double* const inv_inertia = p.inv_inertia.data();
   // Background damping -m nu v, -I nu w, taken implicitly (v_new feels it): stable for any nu h.
   const double keep = w_.viscous_rate > 0.0 ? 1.0 / (1.0 + w_.viscous_rate * h) : 1.0;
+  const bool drifting = h_drift > 0.0, turning = drifting && w_.track_orientation;
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (std::ptrdiff_t kk = 0; kk < n; ++kk) {
     const auto k = static_cast<std::size_t>(kk);
@@ -90,35 +110,20 @@ void DemSolver<D>::kick(double h) {
       v[k] *= keep;
       w[k] *= keep;
     }
+    if (drifting) x[k] += h_drift * v[k];
+    if (turning) q[k] = S::rotate(q[k], w[k], h_drift);
   }
 }
 
-template <int D>
-void DemSolver<D>::drift(double h) {
-  using S = Space<D>;
-  auto& p = w_.particles;
-  const auto n = static_cast<std::ptrdiff_t>(p.size());
-  typename S::Vec* const x = p.x.data();
-  typename S::Orientation* const q = p.q.data();
-  const typename S::Vec* const v = p.v.data();
-  const typename S::Rot* const w = p.w.data();
-  const double* const inv_mass = p.inv_mass.data();
-#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
-  for (std::ptrdiff_t kk = 0; kk < n; ++kk) {
-    const auto k = static_cast<std::size_t>(kk);
-    if (inv_mass[k] == 0.0) continue;
-    x[k] += h * v[k];
-    q[k] = S::rotate(q[k], w[k], h);
-  }
-}
-
-// Forces in two passes, so that the result does not depend on the number of threads:
-//   1. per contact (in parallel) of the near list (the candidates that can touch now, see
+// Forces so that the result does not depend on the number of threads:
+//   1. per contact of the near list (the candidates that can touch now, see
 //      dem/near_list.hpp): the force on its first grain, written into the contact's own slot
-//      together with n x F and the overlap (for the torques);
-//   2. per grain (in parallel): the sum of its contacts' forces and torques, always in the
-//      same order (first-member pairs, second-member pairs, wall pairs, by ascending index).
-// No atomics, no per-thread force copies, and no race: each pass writes only its own items.
+//      together with n x F and the overlap (for the torques), and in the dry pass added to
+//      its grains' sums as it goes (pair_forces: one block of grains per thread);
+//   2. per grain (in parallel), for the grains the pass did not sum (accumulate): the sum of
+//      its contacts' forces and torques, in the same order (second-member pairs,
+//      first-member pairs, wall pairs, by ascending index).
+// No atomics, no per-thread force copies, and no race: each thread writes only its own items.
 template <int D>
 void DemSolver<D>::compute_forces() {
   auto& nl = w_.neighbors;
@@ -148,9 +153,9 @@ void DemSolver<D>::compute_forces() {
     }
     diag_.near_remakes = near_.remakes;
   }
+  const bool hertz = w_.model.normal == NormalModel::kHertz;
   {
     auto scope = timers_.time(Phase::kForces);
-    const bool hertz = w_.model.normal == NormalModel::kHertz;
     if (wet)
       hertz ? wet_pair_forces<HertzNormal>() : wet_pair_forces<LinearNormal>();
     else
@@ -159,11 +164,8 @@ void DemSolver<D>::compute_forces() {
   if (wet) settle_liquid();
   {
     auto scope = timers_.time(Phase::kWallForces);
-    if (w_.model.normal == NormalModel::kHertz)
-      wall_forces<HertzNormal>();
-    else
-      wall_forces<LinearNormal>();
-    accumulate();
+    hertz ? wall_forces<HertzNormal>() : wall_forces<LinearNormal>();
+    accumulate(wet);
   }
 }
 
@@ -185,6 +187,12 @@ struct DemSolver<D>::PairPass {
   Vec *shear, *force;
   Rot* moment;
   double* delta;
+  // The dry pass adds forces and torques to grains as it goes (see pair_forces), except to
+  // the grains flagged `gathered`, which accumulate() sums from the contacts' slots.
+  Vec* grain_force;
+  Rot* grain_torque;
+  std::uint8_t* gathered;
+  const std::uint32_t *second_begin, *second_pairs;
   PairTableView materials;
   ContactModel model;
   double dt;
@@ -193,16 +201,27 @@ struct DemSolver<D>::PairPass {
     forget_if_ended(shear, force, moment, delta, k, S::zero_rot());
   }
 
+  // Grains [g0, g1) are this thread's: zero their sums, and flag those that are the second
+  // member of an entry whose first member is another thread's (below g0): another thread
+  // would add to them, in a race and out of order, so they are gathered instead.
+  void own(std::uint32_t g0, std::uint32_t g1) const {
+    for (std::uint32_t g = g0; g < g1; ++g) {
+      grain_force[g] = S::zero();
+      grain_torque[g] = S::zero_rot();
+      gathered[g] = second_begin[g] < second_begin[g + 1] && i[second_pairs[second_begin[g]]] < g0;
+    }
+  }
+
   // The force of touching pair k (centre offset d = x_i - x_j, |d|^2 = dist2 < rsum^2), with
-  // `cohesion` (<= 0) added to its normal force, stored in the pair's slots; returns the
-  // overlap over the smaller radius. Shared by the dry and the wet pair passes.
-  template <class Normal>
-  [[gnu::always_inline]] double touch(std::size_t k, const Vec& d, double dist2, double rsum,
-                                      double cohesion) const {
+  // `cohesion` (<= 0) added to its normal force, stored in the pair's slots; raises
+  // max_ratio to the overlap over the smaller radius. Shared by the dry and the wet passes.
+  template <class Normal, Sum How = Sum::kGather>
+  [[gnu::always_inline]] void touch(std::size_t k, const Vec& d, double dist2, double rsum,
+                                    double cohesion, double& max_ratio) const {
     const std::uint32_t a = i[k], b = j[k];
     const double dist = std::sqrt(dist2);
     ContactGeometry<D> g;
-    g.n = d / dist;
+    g.n = d * (1.0 / dist);  // one division, not three
     g.delta = rsum - dist;
     // Lever arms from each centre to the middle of the overlap: -(R_i - delta/2) n for i,
     // +(R_j - delta/2) n for j, so the contact points' velocity difference is
@@ -214,9 +233,47 @@ struct DemSolver<D>::PairPass {
     const PairParams& pp = materials(material[a], material[b]);
     const Vec f = contact_force<D, Normal>(g, pp, model, dt, shear[k], cohesion);
     force[k] = f;
-    moment[k] = S::moment(g.n, f);
     delta[k] = g.delta;
-    return g.delta / std::min(radius[a], radius[b]);
+    const Rot m = S::moment(g.n, f);
+    if constexpr (How == Sum::kScatter) {
+      // Term for term as accumulate() would add them (see there for the torques).
+      grain_force[a] += f;
+      grain_torque[a] -= lever_i * m;
+      grain_force[b] -= f;
+      grain_torque[b] -= lever_j * m;
+    } else if constexpr (How == Sum::kScatterChecked) {
+      if (!gathered[a]) {
+        grain_force[a] += f;
+        grain_torque[a] -= lever_i * m;
+      }
+      if (!gathered[b]) {
+        grain_force[b] -= f;
+        grain_torque[b] -= lever_j * m;
+      }
+      if (gathered[a] | gathered[b]) moment[k] = m;
+    } else {
+      moment[k] = m;
+    }
+    const double r_min = std::min(radius[a], radius[b]);
+    if (g.delta > max_ratio * r_min) max_ratio = g.delta / r_min;
+  }
+
+  // The dry pass over near-list entries [m0, m1) (see pair_forces).
+  template <class Normal, Sum How>
+  void entries(const std::uint32_t* near, std::uint32_t m0, std::uint32_t m1, double& max_ratio,
+               std::size_t& touching) const {
+    for (std::uint32_t m = m0; m < m1; ++m) {
+      const std::size_t k = near[m];
+      const Vec d = x[i[k]] - x[j[k]];
+      const double rsum = radius[i[k]] + radius[j[k]];
+      const double dist2 = d.squaredNorm();
+      if (dist2 >= rsum * rsum) {
+        forget(k);
+        continue;
+      }
+      touch<Normal, How>(k, d, dist2, rsum, 0.0, max_ratio);
+      ++touching;
+    }
   }
 };
 
@@ -236,37 +293,71 @@ typename DemSolver<D>::PairPass DemSolver<D>::pair_pass() {
           pl.force.data(),
           pair_moment_.data(),
           pair_delta_.data(),
+          p.f.data(),
+          p.t.data(),
+          gathered_.data(),
+          near_.second_begin.data(),
+          near_.second_pairs.data(),
           w_.materials.pair_view(),
           w_.model,
           w_.dt};
 }
 
+// The dry pass. Each thread takes a contiguous block of grains, about an equal share of the
+// near list, and the entries whose first member is one of them (the list is sorted by first
+// member). It adds each contact's force and torque to the two grains as it goes, in list
+// order; a grain's terms come in the order accumulate() sums them (second-member entries,
+// whose first member is smaller, then first-member ones), so the sums are the same bits for
+// any number of threads. Only the grains another thread's entries reach (flagged in own();
+// none on one thread, a few % on two) are left to accumulate(). Gathering every grain's sum
+// afterwards cost 15 % of the step (perf, docs/BENCHMARKS.md).
 template <int D>
 template <class Normal>
 void DemSolver<D>::pair_forces() {
-  using Vec = typename Space<D>::Vec;
+  gathered_.resize(w_.particles.size());
   PairPass pass = pair_pass();
   const std::uint32_t* const near = near_.index.data();
+  const std::uint32_t* const first_begin = near_.first_begin.data();
   const auto n_near = static_cast<std::ptrdiff_t>(near_.index.size());
   double max_ratio = 0.0;
   std::size_t touching = 0;
-#pragma omp parallel for schedule(static) firstprivate(pass) reduction(max : max_ratio) \
-    reduction(+ : touching) if (n_near >= kMinParallelItems)
-  for (std::ptrdiff_t m = 0; m < n_near; ++m) {
-    const std::size_t k = near[m];
-    const std::uint32_t i = pass.i[k], j = pass.j[k];
-    const Vec d = pass.x[i] - pass.x[j];
-    const double rsum = pass.radius[i] + pass.radius[j];
-    const double dist2 = d.squaredNorm();
-    if (dist2 >= rsum * rsum) {
-      pass.forget(k);
-      continue;
-    }
-    max_ratio = std::max(max_ratio, pass.template touch<Normal>(k, d, dist2, rsum, 0.0));
-    ++touching;
+#pragma omp parallel firstprivate(pass) reduction(max : max_ratio) reduction(+ : touching) \
+    if (n_near >= kMinParallelItems)
+  {
+    const int threads = omp_get_num_threads();
+#pragma omp single
+    split_grains(threads);
+    const auto t = static_cast<std::size_t>(omp_get_thread_num());
+    const std::uint32_t g0 = grain_block_[t], g1 = grain_block_[t + 1];
+    pass.own(g0, g1);
+    // Before any thread reads another's flags (its entries reach later blocks' grains).
+#pragma omp barrier
+    // One thread: no grain is gathered, and the flags need not be read.
+    if (threads == 1)
+      pass.template entries<Normal, Sum::kScatter>(near, first_begin[g0], first_begin[g1],
+                                                   max_ratio, touching);
+    else
+      pass.template entries<Normal, Sum::kScatterChecked>(near, first_begin[g0], first_begin[g1],
+                                                          max_ratio, touching);
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
   diag_.touching += touching;
+}
+
+// Blocks of grains for `threads` threads, each with about an equal share of the near list.
+template <int D>
+void DemSolver<D>::split_grains(int threads) {
+  const auto& begin = near_.first_begin;  // n + 1 entries
+  const auto n_threads = static_cast<std::size_t>(threads);
+  const std::size_t n_near = near_.index.size();
+  grain_block_.assign(n_threads + 1, 0);
+  grain_block_[n_threads] = static_cast<std::uint32_t>(begin.size() - 1);
+  for (std::size_t t = 1; t < n_threads; ++t) {
+    const std::uint32_t share = static_cast<std::uint32_t>(n_near * t / n_threads);
+    // The grain whose entries hold entry `share`: the last g with begin[g] <= share.
+    const auto g = std::upper_bound(begin.begin(), begin.end() - 1, share) - begin.begin() - 1;
+    grain_block_[t] = std::max(grain_block_[t - 1], static_cast<std::uint32_t>(g));
+  }
 }
 
 // The grain-pair pass with capillary bridges. As pair_forces, plus: a bridged pair that has
@@ -321,7 +412,7 @@ void DemSolver<D>::wet_pair_forces() {
     }
     const double cohesion =
         volume >= 0.0 || forming ? -kappa * std::sqrt(p.radius[i] * p.radius[j]) : 0.0;
-    max_ratio = std::max(max_ratio, pass.template touch<Normal>(k, d, dist2, rsum, cohesion));
+    pass.template touch<Normal>(k, d, dist2, rsum, cohesion, max_ratio);
     ++touching;
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
@@ -401,10 +492,16 @@ void DemSolver<D>::wall_forces() {
   diag_.touching += touching;
 }
 
-// Pass 2. The torque of force F at lever arm -(R - delta/2) n is -(R - delta/2) (n x F) for
-// the first grain; the second grain gets -F at +(R - delta/2) n: the same sign, its own R.
+// Pass 2: each grain's sum, from its contacts' slots, for every grain (`all`: the wet pass)
+// or only those the dry pass left (`gathered_`); the others get their walls' terms added to
+// the pass's sums. The torque of force F at lever arm -(R - delta/2) n is
+// -(R - delta/2) (n x F) for the first grain; the second grain gets -F at +(R - delta/2) n:
+// the same sign, its own R. A grain's terms are summed in list order: the entries where it
+// is the second member (their first member has a smaller index, so they come first in the
+// list), then those where it is the first, then its walls; the dry pass meets them in that
+// order too, so either way the bits are the same.
 template <int D>
-void DemSolver<D>::accumulate() {
+void DemSolver<D>::accumulate(bool all) {
   using S = Space<D>;
   auto& p = w_.particles;
   const auto& nl = w_.neighbors;
@@ -423,20 +520,23 @@ void DemSolver<D>::accumulate() {
   const typename S::Vec* const wall_force = nl.wall_pairs.force.data();
   const typename S::Rot* const wall_moment = wall_moment_.data();
   const double* const wall_delta = wall_delta_.data();
+  const std::uint8_t* const gathered = gathered_.data();
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
     const auto i = static_cast<std::size_t>(ii);
-    typename S::Vec f = S::zero();
-    typename S::Rot t = S::zero_rot();
+    const bool full = all || gathered[i];
+    if (!full && wall_begin[i] == wall_begin[i + 1]) continue;  // the pass's sum is final
+    typename S::Vec f = full ? S::zero() : force[i];
+    typename S::Rot t = full ? S::zero_rot() : torque[i];
     const double r = radius[i];
-    for (std::uint32_t m = first_begin[i]; m < first_begin[i + 1]; ++m) {
-      const std::uint32_t k = near[m];
-      f += pair_force[k];
-      t -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
-    }
-    for (std::uint32_t s = second_begin[i]; s < second_begin[i + 1]; ++s) {
+    for (std::uint32_t s = second_begin[i]; full && s < second_begin[i + 1]; ++s) {
       const std::uint32_t k = second_pairs[s];
       f -= pair_force[k];
+      t -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
+    }
+    for (std::uint32_t m = first_begin[i]; full && m < first_begin[i + 1]; ++m) {
+      const std::uint32_t k = near[m];
+      f += pair_force[k];
       t -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
     }
     for (std::uint32_t k = wall_begin[i]; k < wall_begin[i + 1]; ++k) {

@@ -22,16 +22,17 @@ class DemSolver final : public Solver {
 
  private:
   void kick(double h);
-  void drift(double h);
+  void kick_drift(double h, double h_drift);
   template <class Normal>
   void pair_forces();
+  void split_grains(int threads);
   template <class Normal>
   void wet_pair_forces();
   struct PairPass;
   PairPass pair_pass();
   template <class Normal>
   void wall_forces();
-  void accumulate();
+  void accumulate(bool all);
   void settle_liquid();
 
   World<D>& w_;
@@ -40,6 +41,9 @@ class DemSolver final : public Solver {
   // Per-contact scratch of the force pass (n x F and overlap), read by the accumulation pass.
   std::vector<typename Space<D>::Rot> pair_moment_, wall_moment_;
   std::vector<double> pair_delta_, wall_delta_;  // 0 apart, > 0 overlap, -1 unknown
+  // The dry pass's blocks of grains, one per thread, and the grains it leaves to the gather.
+  std::vector<std::uint32_t> grain_block_;
+  std::vector<std::uint8_t> gathered_;
   // Capillary bridges: per pair, a bridge event of this step (kBridgeFormed / kBridgeBroken),
   // applied in list order after the force pass; events_ counts them (0: nothing to scan).
   std::vector<std::uint8_t> pair_event_;

@@ -40,6 +40,7 @@ struct SimulationConfig {
   std::optional<double> skin;     // neighbour-list skin (m); absent = 0.5 * min radius... see build
   double overlap_warning = 0.05;  // warn when an overlap exceeds this fraction of the radius
   double max_speed = 1.0e3;       // m/s; a faster grain is a runaway and stops the run
+  bool track_orientation = true;  // integrate the grains' orientations (see docs/scenario.md)
 };
 
 // Contact dynamics (solver = "cd"): Moreau-Jean time stepping and the NLGS contact solver.

@@ -42,6 +42,10 @@ struct World {
   double thickness = 1.0;  // 2D out-of-plane depth (m)
   double dt = 0.0;
   double viscous_rate = 0.0;  // background damping nu (1/s), set per stage; DEM only
+  // Integrate orientations. A disk's or sphere's orientation enters no force, so a run that
+  // does not read it may leave it as it is (LIGGGHTS' atom_style granular keeps none); the
+  // drift costs ~8 % less (docs/BENCHMARKS.md).
+  bool track_orientation = true;
   double time = 0.0;
   std::uint64_t step = 0;
   Rng rng;
