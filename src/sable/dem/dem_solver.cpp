@@ -31,12 +31,12 @@ void forget_if_ended(Vec* shear, Vec* force, Rot* moment, double* delta, std::si
   delta[k] = 0.0;
 }
 
-}  // namespace
-
 // How the grain-pair passes sum forces per grain (see pair_forces and accumulate): store in
 // the contact's slots only, for the gather (kGather); add to both grains (kScatter); add to
 // the grains not flagged `gathered`, store for the others (kScatterChecked).
 enum class Sum : std::uint8_t { kGather, kScatter, kScatterChecked };
+
+}  // namespace
 
 template <int D>
 void DemSolver<D>::initialize() {
