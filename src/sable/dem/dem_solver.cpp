@@ -213,8 +213,9 @@ struct DemSolver<D>::PairPass {
   }
 
   // The force of touching pair k (centre offset d = x_i - x_j, |d|^2 = dist2 < rsum^2), with
-  // `cohesion` (<= 0) added to its normal force, stored in the pair's slots; raises
-  // max_ratio to the overlap over the smaller radius. Shared by the dry and the wet passes.
+  // `cohesion` (<= 0) added to its normal force, stored in the pair's slots (n x F only where
+  // accumulate() will read it: `How`), and summed per grain as `How` says; raises max_ratio
+  // to the overlap over the smaller radius. Shared by the dry and the wet passes.
   template <class Normal, Sum How = Sum::kGather>
   [[gnu::always_inline]] void touch(std::size_t k, const Vec& d, double dist2, double rsum,
                                     double cohesion, double& max_ratio) const {

@@ -39,6 +39,8 @@ class DemSolver final : public Solver {
   StepDiagnostics diag_;
   PhaseTimers timers_;
   // Per-contact scratch of the force pass (n x F and overlap), read by the accumulation pass.
+  // n x F is written only for the contacts accumulate() reads (every one in wet runs; in dry
+  // runs those of gathered grains): elsewhere it may be stale. Apart entries hold zeros.
   std::vector<typename Space<D>::Rot> pair_moment_, wall_moment_;
   std::vector<double> pair_delta_, wall_delta_;  // 0 apart, > 0 overlap, -1 unknown
   // The dry pass's blocks of grains, one per thread, and the grains it leaves to the gather.
