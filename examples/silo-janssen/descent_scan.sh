@@ -15,7 +15,7 @@
 #   wall_contacts.json       side-wall contacts pooled over seeds and descent snapshots: on-cone
 #                            fraction, shear/normal, rolling without slip, per-snapshot table
 #                            (wall_contacts.py; its printout is in wall_contacts.txt)
-# Usage: examples/silo-janssen/descent_scan.sh dem|cd SPEED_MM_S DISTANCE_MM SEED...
+# Usage: [ROLLING=MU_R] examples/silo-janssen/descent_scan.sh dem|cd SPEED_MM_S DISTANCE_MM SEED...
 #   e.g. examples/silo-janssen/descent_scan.sh dem 5 3 2010 2011   (~15 s a DEM seed on 1 core)
 # Needs build/release/bin/sable (bash scripts/build.sh release), numpy and h5py.
 set -euo pipefail
@@ -48,6 +48,13 @@ bin=./build/release/bin/sable
 
 base=examples/silo-janssen/silo-$solver-2d.toml
 case_dir=out/silo-janssen/descent-scan/$solver-v$speed-d$dist
+# ROLLING=MU_R: the same silo with rolling resistance (contact.rolling = "epsd",
+# rolling_friction = MU_R for grains and walls); the case directory gets "-rollMU_R".
+rolling=${ROLLING:-}
+if [ -n "$rolling" ]; then
+  positive "$rolling" || usage "ROLLING '$rolling' is not a positive decimal number"
+  case_dir=$case_dir-roll$rolling
+fi
 mkdir -p "$case_dir"
 
 # The descent lasts distance / speed; relax steps = that time / dt (dt from the scenario: 1 us
@@ -86,6 +93,16 @@ for seed in "$@"; do
     -e "s/^csv_interval = .*/csv_interval = $csv/" \
     -e "s/^lo = \[0.0, -0.005\]/lo = [0.0, $lo]/" \
     "$base" > "$run/scenario.toml"
+  if [ -n "$rolling" ]; then
+    # The CD silo has no [contact] table: it gets one before its [cd] table.
+    sed -i -e "s/^tangential = \"history\"$/&\nrolling = \"epsd\"/" \
+      -e "s/^\[cd\]$/[contact]\nrolling = \"epsd\"\n\n&/" \
+      -e "s/^friction = 0.25$/&\nrolling_friction = $rolling/" "$run/scenario.toml"
+    for line in 'rolling = "epsd"' "rolling_friction = $rolling"; do
+      grep -qxF "$line" "$run/scenario.toml" ||
+        { echo "error: $base no longer has the line that '$line' follows" >&2; exit 1; }
+    done
+  fi
   for line in "seed = $seed" "steps = $steps" "wall_velocity = { bottom = [0.0, $vel] }" \
     "snapshot_interval = $snap" "csv_interval = $csv" "lo = [0.0, $lo]"; do
     grep -qxF "$line" "$run/scenario.toml" ||

@@ -144,13 +144,15 @@ def main(out, cases):
     tag = "-large" if cases == ["dem-2d-large"] else ""
     summary = {case: case_summary(out, case) for case in cases}
     ks = {c: summary[c]["janssen"] for c in cases if summary[c].get("janssen", {}).get("K")}
-    if "cd-2d" in ks and "dem-2d" in ks:
-        a, b = ks["cd-2d"], ks["dem-2d"]
+    for suffix in ("", "-rolling"):
+        cd, dem = "cd-2d" + suffix, "dem-2d" + suffix
+        if cd not in ks or dem not in ks:
+            continue
+        a, b = ks[cd], ks[dem]
         diff = abs(a["K"] - b["K"])
-        summary["cd_vs_dem_2d"] = {"K_difference": diff,
-                                   "combined_stderr": math.hypot(a["K_stderr"], b["K_stderr"]),
-                                   "within_2_sigma": diff < 2 * math.hypot(a["K_stderr"],
-                                                                           b["K_stderr"])}
+        se = math.hypot(a["K_stderr"], b["K_stderr"])
+        summary["cd_vs_dem_2d" + suffix.replace("-", "_")] = {
+            "K_difference": diff, "combined_stderr": se, "within_2_sigma": diff < 2 * se}
     with open(os.path.join(out, f"summary{tag}.json"), "w") as f:
         json.dump(summary, f, indent=2)
     print(json.dumps(summary, indent=2))

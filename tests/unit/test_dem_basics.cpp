@@ -15,9 +15,9 @@
 
 namespace {
 
-sable::World<3> world_with_material(double e = 0.3, double mu = 0.5) {
+sable::World<3> world_with_material(double e = 0.3, double mu = 0.5, double mu_r = 0.0) {
   sable::World<3> w;
-  w.materials.add({"g", 2500.0, 1e7, 0.3, e, mu});
+  w.materials.add({"g", 2500.0, 1e7, 0.3, e, mu, mu_r});
   w.materials.finalize();
   w.neighbors.skin = 0.2e-3;
   w.neighbors.domain_lo = Eigen::Vector3d(-0.01, -0.01, -0.01);
@@ -145,6 +145,81 @@ TEST(DemBasics, ThreadCountDoesNotChangeABit) {
   };
   const std::uint64_t one = run(1);
   for (int threads : {2, 3, 4}) EXPECT_EQ(run(threads), one) << threads << " threads";
+}
+
+// The rolling-resistance pass (dem/rolling_pass.cpp) keeps the thread count out of the bits:
+// each contact's couple goes to its own slot and the couples are added per grain in the
+// accumulation's fixed order. The bed of ThreadCountDoesNotChangeABit with rolling resistance
+// (mu_r = 0.1 on the material, the lists carrying springs from their first build): 1, 2, 3
+// and 4 threads give the same state hash, which covers the springs, and the same torques,
+// spins and springs, exactly. The same run without rolling resistance ends with other spins
+// (the pass really ran and did something): here the couples oppose the grains' random
+// relative spins, so the bed keeps less rotational energy than without them.
+TEST(DemBasics, ThreadCountDoesNotChangeABitWithRollingResistance) {
+  struct End {
+    std::uint64_t hash;
+    std::vector<Eigen::Vector3d> w, t, roll, wall_roll;
+    double rotational_energy = 0.0;
+    std::size_t touching = 0;
+  };
+  auto run = [](int threads, bool rolling) {
+    auto w = world_with_material(0.5, 0.5, rolling ? 0.1 : 0.0);
+    if (rolling) {
+      w.model.rolling = sable::RollingModel::kEpsd;
+      w.neighbors.rolling = true;
+    }
+    const double r = 0.2e-3, a = 1.96 * r;  // 2 % overlaps
+    std::uint64_t seed = 12345;
+    auto jitter = [&seed]() {  // a fixed LCG: the same draws for every run
+      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+      return static_cast<double>(seed >> 11) * 0x1.0p-53 - 0.5;
+    };
+    for (int z = 0; z < 12; ++z)
+      for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+          w.particles.add({a * x - 0.004, a * y - 0.004, a * z - 0.004 + r}, r, 2500.0, 0, 1.0);
+          w.particles.v.back() = 0.01 * Eigen::Vector3d(jitter(), jitter(), jitter());
+          w.particles.w.back() = 10.0 * Eigen::Vector3d(jitter(), jitter(), jitter());
+        }
+    w.gravity = {0, 0, -9.81};
+    sable::Wall<3> floor;
+    floor.point = Eigen::Vector3d(0, 0, -0.004);
+    floor.normal = Eigen::Vector3d(0, 0, 1);
+    w.walls.push_back(floor);
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    sable::DemSolver<3> s(w);
+    s.initialize();
+    for (int k = 0; k < 50; ++k) s.step();
+    omp_set_num_threads(before);
+    End end{sable::state_hash(w), w.particles.w, w.particles.t, w.neighbors.pairs.roll,
+            w.neighbors.wall_pairs.roll};
+    for (std::size_t k = 0; k < w.particles.size(); ++k)
+      end.rotational_energy += 0.5 * w.particles.w[k].squaredNorm() / w.particles.inv_inertia[k];
+    end.touching = s.diagnostics().touching;
+    return end;
+  };
+  const End one = run(1, true);
+  EXPECT_GT(one.touching, 6000u);         // the couple pass runs in parallel above 2048 contacts
+  std::size_t wound = 0, wall_wound = 0;  // springs the snapshot and the hash must carry
+  for (const auto& th : one.roll) wound += th.squaredNorm() > 0.0 ? 1 : 0;
+  for (const auto& th : one.wall_roll) wall_wound += th.squaredNorm() > 0.0 ? 1 : 0;
+  EXPECT_GT(wound, 6000u);
+  EXPECT_GT(wall_wound, 200u);  // the bottom layer of 256 grains on the floor
+  for (int threads : {2, 3, 4}) {
+    const End other = run(threads, true);
+    EXPECT_EQ(other.hash, one.hash) << threads << " threads";
+    EXPECT_TRUE(other.w == one.w) << threads << " threads: spins differ";
+    EXPECT_TRUE(other.t == one.t) << threads << " threads: torques differ";
+    EXPECT_TRUE(other.roll == one.roll) << threads << " threads: springs differ";
+    EXPECT_TRUE(other.wall_roll == one.wall_roll) << threads << " threads: wall springs differ";
+  }
+  const End free = run(1, false);
+  EXPECT_TRUE(free.roll.empty());  // no springs without the sub-model
+  std::size_t changed = 0;
+  for (std::size_t k = 0; k < one.w.size(); ++k) changed += one.w[k] != free.w[k] ? 1 : 0;
+  EXPECT_EQ(changed, one.w.size()) << "rolling resistance should change every grain's spin";
+  EXPECT_LT(one.rotational_energy, free.rotational_energy);
 }
 
 // Inside a cylinder a grain thrown outwards comes back: the wall's normal points to the axis

@@ -9,10 +9,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -130,9 +132,10 @@ void add_walls(World<D>& w) {
 
 // A small, jittered, slightly overlapping packing on a floor, with gravity, a fixed grain,
 // a moving tilted wall, (3D) a drum, and a non-empty id free list. `with_grains = false`
-// gives the world a resumed run builds from its scenario before loading a snapshot.
+// gives the world a resumed run builds from its scenario before loading a snapshot;
+// `rolling`, rolling resistance (mu_r = 0.1, the lists carrying springs).
 template <int D>
-World<D> make_world(bool with_grains = true) {
+World<D> make_world(bool with_grains = true, bool rolling = false) {
   using Vec = typename sable::Space<D>::Vec;
   World<D> w;
   sable::Material glass;
@@ -142,12 +145,17 @@ World<D> make_world(bool with_grains = true) {
   glass.poisson = 0.25;
   glass.restitution = 0.6;
   glass.friction = 0.4;
+  glass.rolling_friction = rolling ? 0.1 : 0.0;
   sable::Material steel = glass;
   steel.name = "steel";
   steel.young = 2.0e8;
   w.materials.add(glass);
   w.materials.add(steel);
   w.materials.finalize();
+  if (rolling) {
+    w.model.rolling = sable::RollingModel::kEpsd;
+    w.neighbors.rolling = true;
+  }
   w.dt = 1.0e-5;
   w.gravity[D - 1] = -9.81;
   w.rng.reseed(42);
@@ -282,8 +290,8 @@ TEST_F(IoTest, PvdSeriesAddAndResume) {
 // resumed one without re-initializing its solver) keeps the hashes equal through neighbour
 // list rebuilds. Exact equality: any lost bit (history, last forces, rng) would diverge.
 template <int D>
-void check_round_trip(const std::string& file) {
-  World<D> a = make_world<D>();
+void check_round_trip(const std::string& file, bool rolling = false) {
+  World<D> a = make_world<D>(true, rolling);
   sable::DemSolver<D> sa(a);
   sa.initialize();
   for (int s = 0; s < 40; ++s) sa.step();
@@ -292,6 +300,14 @@ void check_round_trip(const std::string& file) {
   std::size_t sheared = 0;  // friction history that the snapshot must carry
   for (const auto& s : a.neighbors.pairs.shear) sheared += s.squaredNorm() > 0.0 ? 1 : 0;
   ASSERT_GT(sheared, 0u);
+  if (rolling) {  // wound rolling springs, of grain pairs and of grain-wall pairs
+    std::size_t wound = 0, wall_wound = 0;
+    for (const auto& th : a.neighbors.pairs.roll) wound += sable::Space<D>::rot_norm2(th) > 0.0;
+    for (const auto& th : a.neighbors.wall_pairs.roll)
+      wall_wound += sable::Space<D>::rot_norm2(th) > 0.0;
+    ASSERT_GT(wound, 0u);
+    ASSERT_GT(wall_wound, 0u);
+  }
   ASSERT_FALSE(a.particles.ids.free_list().empty());
   const std::string scenario = "[simulation]\ndimension = " + std::to_string(D) + "\n# é\n";
   sable::save_snapshot(a, RunPosition{2, 17}, scenario, file);
@@ -308,12 +324,14 @@ void check_round_trip(const std::string& file) {
   EXPECT_EQ(info.state_hash, sable::state_hash(a));
   EXPECT_EQ(info.scenario_text, scenario);
 
-  World<D> b = make_world<D>(false);
+  World<D> b = make_world<D>(false, rolling);
   std::string text;
   EXPECT_EQ(sable::load_snapshot(file, b, &text), (RunPosition{2, 17}));
   EXPECT_EQ(text, scenario);
   ASSERT_EQ(sable::state_hash(b), sable::state_hash(a));
   EXPECT_EQ(b.neighbors.builds, a.neighbors.builds);
+  EXPECT_TRUE(b.neighbors.pairs.roll == a.neighbors.pairs.roll);
+  EXPECT_TRUE(b.neighbors.wall_pairs.roll == a.neighbors.wall_pairs.roll);
 
   const std::uint64_t builds = a.neighbors.builds;
   sable::DemSolver<D> sb(b);  // resumed: no initialize()
@@ -331,6 +349,14 @@ TEST_F(IoTest, SnapshotRoundTripIsBitIdentical2D) {
 }
 TEST_F(IoTest, SnapshotRoundTripIsBitIdentical3D) {
   check_round_trip<3>(path("s3.h5"));
+}
+// The same with rolling resistance: the springs (a scalar per contact in 2D, a vector in 3D)
+// are saved and restored bit for bit.
+TEST_F(IoTest, SnapshotRoundTripWithRollingIsBitIdentical2D) {
+  check_round_trip<2>(path("s2.h5"), true);
+}
+TEST_F(IoTest, SnapshotRoundTripWithRollingIsBitIdentical3D) {
+  check_round_trip<3>(path("s3.h5"), true);
 }
 
 // Guards: N = 0 (empty datasets, no pairs) saves and loads; exact hash equality.
@@ -470,6 +496,111 @@ TEST_F(IoTest, InconsistentSnapshotsNameTheDataset) {
   EXPECT_TRUE(contains(load_error(good, fewer), "scenario defines 2"));
 
   EXPECT_EQ(sable::state_hash(w), before);
+  EXPECT_EQ(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0) << "leaked HDF5 handles";
+}
+
+// The doubles of dataset `name` of `file`, row-major.
+std::vector<double> read_doubles(const std::string& file, const std::string& name) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t d = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+  const hid_t space = H5Dget_space(d);
+  std::vector<double> out(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+  if (!out.empty()) H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
+  H5Sclose(space);
+  H5Dclose(d);
+  H5Fclose(f);
+  return out;
+}
+
+// Replace dataset `name` of `file` with a rows x cols dataset holding `values`.
+void write_doubles(const std::string& file, const std::string& name, hsize_t rows, hsize_t cols,
+                   const std::vector<double>& values) {
+  ASSERT_EQ(values.size(), rows * cols);
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  H5Ldelete(f, name.c_str(), H5P_DEFAULT);
+  const hsize_t dims[2] = {rows, cols};
+  const hid_t space = H5Screate_simple(2, dims, nullptr);
+  const hid_t d =
+      H5Dcreate2(f, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (!values.empty()) H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+  H5Dclose(d);
+  H5Sclose(space);
+  H5Fclose(f);
+}
+
+// Guards: the rolling springs of a snapshot are checked as the other contact arrays: a wrong
+// row count or a non-finite spring is refused naming the dataset (and the row), a missing
+// dataset too, and a finite but altered spring fails the state hash (which covers the springs
+// of a rolling snapshot). The world is left untouched (its hash, exactly).
+TEST_F(IoTest, BadRollingSpringsNameTheDataset) {
+  World<3> a = make_world<3>(true, true);
+  sable::DemSolver<3> s(a);
+  s.initialize();
+  for (int k = 0; k < 40; ++k) s.step();
+  const std::string good = path("rolling.h5");
+  sable::save_snapshot(a, {}, "scenario", good);
+  const std::string pairs = "/neighbors/pairs/roll", walls = "/neighbors/wall_pairs/roll";
+  const std::vector<double> springs = read_doubles(good, pairs);
+  const std::vector<double> wall_springs = read_doubles(good, walls);
+  const hsize_t n = a.neighbors.pairs.size(), nw = a.neighbors.wall_pairs.size();
+  ASSERT_EQ(springs.size(), 3 * n);
+  ASSERT_EQ(wall_springs.size(), 3 * nw);
+  ASSERT_GT(n, 2u);
+  ASSERT_GT(nw, 0u);
+
+  World<3> w = make_world<3>(false, true);
+  const std::uint64_t before = sable::state_hash(w);
+  auto corrupt = [&](const std::string& name, const std::string& dataset, hsize_t rows,
+                     std::vector<double> values) {
+    const std::string file = path(name);
+    fs::copy_file(good, file);
+    write_doubles(file, dataset, rows, 3, values);
+    const std::string msg = load_error(file, w);
+    EXPECT_TRUE(contains(msg, file));
+    EXPECT_EQ(sable::state_hash(w), before) << name;
+    return msg;
+  };
+
+  std::string msg =
+      corrupt("short.h5", pairs, n - 1, std::vector<double>(springs.begin(), springs.end() - 3));
+  EXPECT_TRUE(contains(msg, "'" + pairs + "' has " + std::to_string(n - 1) + " rows, expected " +
+                                std::to_string(n)));
+  EXPECT_TRUE(contains(msg, "one per pair"));
+  std::vector<double> values = wall_springs;
+  values.insert(values.end(), {0.0, 0.0, 0.0});
+  msg = corrupt("long.h5", walls, nw + 1, values);
+  EXPECT_TRUE(contains(msg, "'" + walls + "' has " + std::to_string(nw + 1) + " rows"));
+
+  values = springs;
+  values[3 * 2 + 1] = std::numeric_limits<double>::quiet_NaN();
+  msg = corrupt("nan.h5", pairs, n, values);
+  EXPECT_TRUE(contains(msg, "'" + pairs + "' row 2 is not finite"));
+  values = wall_springs;
+  values[0] = -std::numeric_limits<double>::infinity();
+  msg = corrupt("inf.h5", walls, nw, values);
+  EXPECT_TRUE(contains(msg, "'" + walls + "' row 0 is not finite"));
+
+  values = springs;  // a wound spring moved by one ulp: finite, the right shape, other bits
+  std::size_t k = 0;
+  while (k < values.size() && values[k] == 0.0) ++k;
+  ASSERT_LT(k, values.size()) << "no wound spring to alter";
+  values[k] = std::nextafter(values[k], 1.0);
+  msg = corrupt("altered.h5", pairs, n, values);
+  EXPECT_TRUE(contains(msg, "attribute 'state_hash'"));
+
+  const std::string missing = path("missing.h5");
+  fs::copy_file(good, missing);
+  {
+    const hid_t f = H5Fopen(missing.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    H5Ldelete(f, walls.c_str(), H5P_DEFAULT);
+    H5Fclose(f);
+  }
+  EXPECT_TRUE(contains(load_error(missing, w), "missing dataset '" + walls + "'"));
+  EXPECT_EQ(sable::state_hash(w), before);
+
+  sable::load_snapshot(good, w);  // the good file loads into the same world
+  EXPECT_EQ(sable::state_hash(w), sable::state_hash(a));
   EXPECT_EQ(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0) << "leaked HDF5 handles";
 }
 

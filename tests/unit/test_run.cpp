@@ -1,6 +1,7 @@
 // End-to-end runs through the scenario runner: determinism, bit-exact restart, and the CLI's
 // handling of bad input. All comparisons are exact (state hashes over every bit of the state).
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -10,6 +11,7 @@
 
 #include "run_helpers.hpp"
 #include "sable/io/snapshot.hpp"
+#include "sable/scenario/build.hpp"
 #include "sable/scenario/config.hpp"
 #include "sable/scenario/runner.hpp"
 
@@ -126,6 +128,132 @@ TEST_P(RunDim, BitIdenticalForOneAndTwoThreads) {
   }
   EXPECT_EQ(hashes[0], hashes[1]);
   EXPECT_EQ(hashes[0], hashes[2]);
+}
+
+// The scenario on a bed in contact from the start (a hexagonal lattice of touching grains on
+// the floor, sliding along x), so that many contacts roll and wind their springs before the
+// first snapshot; with `rolling`, rolling resistance (contact/rolling.hpp): mu_r = 0.1,
+// rolling = "epsd".
+std::string bed_scenario(int dim, const std::string& out, bool rolling) {
+  const bool three = dim == 3;
+  std::string text = scenario(dim, 3, out);
+  const std::size_t from = text.find("[[grains]]");
+  std::ostringstream bed;
+  if (rolling) bed << "[contact]\nrolling = \"epsd\"\n";
+  bed << "[[grains]]\ngenerator = \"lattice\"\nmaterial = \"g\"\nradius = 1e-3\n"
+      << "arrangement = \"hexagonal\"\nregion = { box = { lo = " << (three ? "[0, 0, 0]" : "[0, 0]")
+      << ", hi = " << (three ? "[0.02, 0.02, 0.006]" : "[0.04, 0.01]") << " } }\n"
+      << "count = " << (three ? 250 : 90) << "\n"
+      << "velocity = " << (three ? "[0.05, 0.02, 0]" : "[0.05, 0]") << "\n";
+  text.replace(from, text.find("[[wall]]") - from, bed.str());
+  if (rolling)
+    text.replace(text.find("friction = 0.5\n"), 15, "friction = 0.5\nrolling_friction = 0.1\n");
+  return text;
+}
+
+// What a resumed run of `text` holds after loading `snapshot`: its contact-list entries
+// (grain pairs and grain-wall pairs), the rolling springs the lists carry (one per entry, or
+// none at all), how many of those are wound (not zero), and the lists' springs flag (set by
+// the scenario, whatever the snapshot had).
+struct LoadedSprings {
+  std::size_t entries = 0, springs = 0, wound = 0;
+  bool rolling = false;
+};
+
+template <int D>
+LoadedSprings loaded_springs(const std::string& text, const fs::path& snapshot) {
+  const sable::ScenarioConfig cfg = sable::parse_scenario(text, "test.toml");
+  sable::World<D> w;
+  sable::build_model(cfg, w);
+  sable::load_snapshot(snapshot.string(), w);
+  const auto& nl = w.neighbors;
+  LoadedSprings out;
+  out.rolling = nl.rolling;
+  out.entries = nl.pairs.size() + nl.wall_pairs.size();
+  out.springs = nl.pairs.roll.size() + nl.wall_pairs.roll.size();
+  if (out.springs > 0) {  // then one per entry of each list
+    EXPECT_EQ(nl.pairs.roll.size(), nl.pairs.size());
+    EXPECT_EQ(nl.wall_pairs.roll.size(), nl.wall_pairs.size());
+  }
+  for (const auto& th : nl.pairs.roll) out.wound += sable::Space<D>::rot_norm2(th) > 0.0;
+  for (const auto& th : nl.wall_pairs.roll) out.wound += sable::Space<D>::rot_norm2(th) > 0.0;
+  return out;
+}
+
+LoadedSprings loaded_springs(int dim, const std::string& text, const fs::path& snapshot) {
+  return dim == 2 ? loaded_springs<2>(text, snapshot) : loaded_springs<3>(text, snapshot);
+}
+
+// Whether a snapshot file holds the rolling springs' datasets.
+bool has_springs(const fs::path& snapshot) {
+  const hid_t f = H5Fopen(snapshot.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  EXPECT_GE(f, 0) << snapshot;
+  const bool pairs = H5Lexists(f, "/neighbors/pairs/roll", H5P_DEFAULT) > 0;
+  const bool walls = H5Lexists(f, "/neighbors/wall_pairs/roll", H5P_DEFAULT) > 0;
+  H5Fclose(f);
+  EXPECT_EQ(pairs, walls) << snapshot;
+  return pairs;
+}
+
+// With rolling resistance, a run resumed from a snapshot mid-stage (step 200) or in the
+// second stage (step 400) ends bit-identical to the uninterrupted one: the snapshots carry
+// the springs (wound ones: a lost spring would show in the hash, which covers them).
+// Rolling resistance changes the run (another final kinetic energy than without it).
+TEST_P(RunDim, RollingRestartIsBitIdentical) {
+  const int dim = GetParam();
+  const fs::path dir = temp_dir("rolling_restart" + std::to_string(dim));
+  const std::string full_text = bed_scenario(dim, (dir / "full").string(), true);
+  const auto full = run(full_text);
+  EXPECT_NE(full.kinetic_energy, run(bed_scenario(dim, "unused", false), "", false).kinetic_energy);
+  for (const char* snap : {"step_0000000200.h5", "step_0000000400.h5"}) {
+    const fs::path snapshot = dir / "full" / "snapshots" / snap;
+    ASSERT_TRUE(fs::exists(snapshot)) << snapshot;
+    EXPECT_TRUE(has_springs(snapshot));
+    const LoadedSprings s = loaded_springs(dim, full_text, snapshot);
+    EXPECT_GT(s.wound, 100u) << snap << ": the restart should have wound springs to carry";
+    const auto resumed = run(bed_scenario(dim, (dir / snap).string(), true), snapshot.string());
+    EXPECT_EQ(resumed.steps, full.steps);
+    EXPECT_EQ(resumed.state_hash, full.state_hash) << "resumed from " << snap;
+  }
+  fs::remove_all(dir);
+}
+
+// A snapshot written without rolling resistance resumes under a scenario with it: the lists
+// get springs at zero (one per pair) and the run goes on, writing springs in its snapshots.
+// The other way round, the springs of a rolling snapshot are dropped: no springs, none
+// written. Both runs end at the scenario's last step without an error.
+TEST_P(RunDim, RollingAndPlainSnapshotsResumeEachOther) {
+  const int dim = GetParam();
+  const fs::path dir = temp_dir("rolling_cross" + std::to_string(dim));
+  const std::string plain_text = bed_scenario(dim, (dir / "plain").string(), false);
+  const std::string rolling_text = bed_scenario(dim, (dir / "rolling").string(), true);
+  run(plain_text);
+  run(rolling_text);
+  const fs::path plain_snap = dir / "plain" / "snapshots" / "step_0000000400.h5";
+  const fs::path rolling_snap = dir / "rolling" / "snapshots" / "step_0000000400.h5";
+  ASSERT_TRUE(fs::exists(plain_snap) && fs::exists(rolling_snap));
+  EXPECT_FALSE(has_springs(plain_snap));
+  EXPECT_TRUE(has_springs(rolling_snap));
+
+  const LoadedSprings zeroed = loaded_springs(dim, rolling_text, plain_snap);
+  EXPECT_TRUE(zeroed.rolling);
+  EXPECT_GT(zeroed.entries, 100u);
+  EXPECT_EQ(zeroed.springs, zeroed.entries);
+  EXPECT_EQ(zeroed.wound, 0u);
+  const auto to_rolling =
+      run(bed_scenario(dim, (dir / "to_rolling").string(), true), plain_snap.string());
+  EXPECT_EQ(to_rolling.steps, 600u);
+  EXPECT_TRUE(has_springs(dir / "to_rolling" / "snapshots" / "end_of_stage_2.h5"));
+
+  const LoadedSprings dropped = loaded_springs(dim, plain_text, rolling_snap);
+  EXPECT_FALSE(dropped.rolling);
+  EXPECT_GT(dropped.entries, 100u);
+  EXPECT_EQ(dropped.springs, 0u);
+  const auto to_plain =
+      run(bed_scenario(dim, (dir / "to_plain").string(), false), rolling_snap.string());
+  EXPECT_EQ(to_plain.steps, 600u);
+  EXPECT_FALSE(has_springs(dir / "to_plain" / "snapshots" / "end_of_stage_2.h5"));
+  fs::remove_all(dir);
 }
 
 INSTANTIATE_TEST_SUITE_P(TwoAndThreeD, RunDim, ::testing::Values(2, 3));

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "sable/core/error.hpp"
+#include "sable/scenario/build.hpp"
 #include "sable/scenario/config.hpp"
 
 namespace sable {
@@ -605,6 +606,140 @@ TEST(ScenarioParse, MissingFile) {
               std::string::npos)
         << e.what();
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Rolling resistance (contact/rolling.hpp): [contact] rolling and rolling_damping, and the
+// rolling_friction of materials and material pairs.
+
+// The base with rolling resistance on: glass and steel given a rolling friction, a pair
+// override for glass on steel, and a damping other than the default.
+const std::string kRolling = edit("friction = 0.5", "friction = 0.5\nrolling_friction = 0.2",
+                                  edit("rigid = true", "rigid = true\nrolling_friction = 0.08")) +
+                             R"(
+[[material_pair]]
+materials = ["glass", "steel"]
+rolling_friction = 0.05
+
+[contact]
+rolling = "epsd"
+rolling_damping = 0.4
+)";
+
+// Guards: the rolling keys land in the config, and through the builder in the world: the
+// model, the pair table (a pair without override takes the smaller mu_r of its two materials,
+// an override replaces it for its pair only) and the neighbour list's spring flag (so the
+// lists carry springs from their first build). Values are copied: compared exactly.
+TEST(ScenarioParse, ValidRollingResistance) {
+  const ScenarioConfig cfg = parse_scenario(kRolling, kPath);
+  EXPECT_EQ(cfg.contact.rolling, "epsd");
+  EXPECT_EQ(cfg.contact.rolling_damping, 0.4);
+  EXPECT_EQ(cfg.materials[0].material.rolling_friction, 0.2);
+  EXPECT_EQ(cfg.materials[1].material.rolling_friction, 0.08);
+  ASSERT_EQ(cfg.overrides.size(), 1u);
+  EXPECT_EQ(cfg.overrides[0].rolling_friction, 0.05);
+  EXPECT_FALSE(cfg.overrides[0].friction.has_value());
+
+  World<3> w;
+  build_model(cfg, w);
+  EXPECT_EQ(w.model.rolling, RollingModel::kEpsd);
+  EXPECT_EQ(w.model.rolling_damping, 0.4);
+  EXPECT_TRUE(w.neighbors.rolling);
+  const MaterialIndex glass = *w.materials.find("glass"), steel = *w.materials.find("steel");
+  EXPECT_EQ(w.materials.pair(glass, glass).rolling_friction, 0.2);
+  EXPECT_EQ(w.materials.pair(steel, steel).rolling_friction, 0.08);
+  EXPECT_EQ(w.materials.pair(glass, steel).rolling_friction, 0.05);  // the override
+  EXPECT_EQ(w.materials.pair(steel, glass).rolling_friction, 0.05);  // both ways round
+  EXPECT_EQ(w.materials.pair(glass, steel).friction, 0.0);  // min(0.5, 0), the override has none
+
+  // Without the override the pair mixes to min(0.2, 0.08); the damping defaults to 0.3.
+  std::string text = kRolling;
+  text.replace(text.find("[[material_pair]]"),
+               text.find("[contact]") - text.find("[[material_pair]]"), "");
+  text.replace(text.find("rolling_damping = 0.4\n"), 22, "");
+  const ScenarioConfig mixed = parse_scenario(text, kPath);
+  EXPECT_EQ(mixed.contact.rolling_damping, 0.3);
+  World<3> wm;
+  build_model(mixed, wm);
+  EXPECT_EQ(wm.model.rolling_damping, 0.3);
+  EXPECT_EQ(
+      wm.materials.pair(*wm.materials.find("glass"), *wm.materials.find("steel")).rolling_friction,
+      0.08);
+
+  // No [contact] rolling: none, the lists carry no springs; an explicit zero rolling friction
+  // is accepted without the sub-model (it asks for nothing).
+  const ScenarioConfig plain =
+      parse_scenario(edit("friction = 0.5", "friction = 0.5\nrolling_friction = 0"), kPath);
+  EXPECT_EQ(plain.contact.rolling, "none");
+  World<3> wp;
+  build_model(plain, wp);
+  EXPECT_EQ(wp.model.rolling, RollingModel::kNone);
+  EXPECT_FALSE(wp.neighbors.rolling);
+}
+
+// Guards: a rolling friction > 0 without the rolling sub-model would be silently ignored: it
+// is refused where it is written, for a material and for a material pair; negative is refused
+// whatever the sub-model.
+TEST(ScenarioParse, RollingFrictionNeedsTheRollingModel) {
+  std::string text = edit("friction = 0.5", "friction = 0.5\nrolling_friction = 0.1");
+  EXPECT_TRUE(
+      FailsAt(text, line_of(text, "rolling_friction"),
+              {"material[0].rolling_friction = 0.1", "0 or absent", "contact.rolling = \"epsd\""}));
+  EXPECT_TRUE(RejectsAppended(
+      "[[material_pair]]\nmaterials = [\"glass\", \"steel\"]\nrolling_friction = 0.2\n",
+      "rolling_friction",
+      {"material_pair[0].rolling_friction = 0.2", "contact.rolling = \"epsd\""}));
+  // rolling = "none" written out is the same as absent.
+  EXPECT_TRUE(RejectsAppended(
+      "[contact]\nrolling = \"none\"\n[[material_pair]]\nmaterials = [\"glass\", \"steel\"]\n"
+      "rolling_friction = 0.2\n",
+      "rolling_friction", {"material_pair[0].rolling_friction", "contact.rolling = \"epsd\""}));
+  text = edit("rolling_friction = 0.2", "rolling_friction = -0.1", kRolling);
+  EXPECT_TRUE(FailsAt(text, line_of(text, "rolling_friction = -0.1"),
+                      {"material[0].rolling_friction", ">= 0"}));
+  text = edit("rolling_friction = 0.05", "rolling_friction = -0.05", kRolling);
+  EXPECT_TRUE(FailsAt(text, line_of(text, "rolling_friction = -0.05"),
+                      {"material_pair[0].rolling_friction", ">= 0"}));
+}
+
+// Guards: rolling_damping only with rolling = "epsd", and within [0, 1] (a fraction of
+// critical damping); the sub-model's name is one of the registry's.
+TEST(ScenarioParse, RollingDampingAndChoice) {
+  EXPECT_TRUE(RejectsAppended("[contact]\nrolling_damping = 0.5\n", "rolling_damping",
+                              {"contact.rolling_damping", "does not apply", "rolling = \"epsd\""}));
+  EXPECT_TRUE(RejectsAppended("[contact]\nrolling = \"none\"\nrolling_damping = 0.5\n",
+                              "rolling_damping", {"contact.rolling_damping", "does not apply"}));
+  for (const char* bad : {"1.5", "-0.1"}) {
+    const std::string text =
+        edit("rolling_damping = 0.4", std::string("rolling_damping = ") + bad, kRolling);
+    EXPECT_TRUE(FailsAt(text, line_of(text, "rolling_damping"),
+                        {std::string("contact.rolling_damping = ") + bad, "a number in [0, 1]"}));
+  }
+  for (const char* ok : {"0", "1"}) {  // both ends are allowed
+    const std::string text =
+        edit("rolling_damping = 0.4", std::string("rolling_damping = ") + ok, kRolling);
+    EXPECT_EQ(parse_scenario(text, kPath).contact.rolling_damping, std::stod(ok));
+  }
+  const std::string text = edit("rolling = \"epsd\"", "rolling = \"coulomb\"", kRolling);
+  EXPECT_TRUE(
+      FailsAt(text, line_of(text, "coulomb"), {"contact.rolling", "one of", "\"none\", \"epsd\""}));
+}
+
+// Guards: under contact dynamics the rolling couple of rigid grains has no spring, so
+// rolling_damping is refused there (naming the solver), and epsd without it parses; rolling
+// resistance is not combined with capillary cohesion yet: refused at contact.rolling.
+TEST(ScenarioParse, RollingWithContactDynamicsAndCohesion) {
+  std::string text = edit("seed = 7", "seed = 7\nsolver = \"cd\"", kRolling);
+  EXPECT_TRUE(FailsAt(text, line_of(text, "rolling_damping"),
+                      {"contact.rolling_damping", "does not apply", "solver = \"cd\""}));
+  text = edit("rolling_damping = 0.4\n", "", text);
+  const ScenarioConfig cd = parse_scenario(text, kPath);
+  EXPECT_EQ(cd.sim.solver, "cd");
+  EXPECT_EQ(cd.contact.rolling, "epsd");
+  EXPECT_EQ(cd.materials[0].material.rolling_friction, 0.2);
+  text = edit("rolling = \"epsd\"", "rolling = \"epsd\"\ncohesion = \"capillary\"", kRolling);
+  EXPECT_TRUE(FailsAt(text, line_of(text, "rolling = \"epsd\""),
+                      {"contact.rolling = \"epsd\"", "cohesion = \"capillary\""}));
 }
 
 }  // namespace

@@ -48,6 +48,7 @@ std::string read(const fs::path& p) {
 struct Study {
   std::string before, relax, after;  // summary.json texts
   fs::path snapshots;
+  bool dem = false;
 };
 
 // Run one example scenario into `dir` and analyse it as run.sh does.
@@ -62,6 +63,7 @@ Study run_case(const std::string& name, const fs::path& dir) {
   run_scenario(cfg, opt);
   Study st;
   st.snapshots = dir / "run" / "snapshots";
+  st.dem = cfg.sim.solver == "dem";
   const auto s1 = read_snapshot_info((st.snapshots / "end_of_stage_1.h5").string()).step;
   const auto s2 = read_snapshot_info((st.snapshots / "end_of_stage_2.h5").string()).step;
   std::vector<std::string> relax;
@@ -133,45 +135,51 @@ void check_coulomb_at_walls(const fs::path& snapshot, double cone_tolerance) {
             << " rolling or sticking side-wall contacts\n";
 }
 
-TEST(SiloJanssen, DumontFortinOuafikSiloByDemAndCd) {
-  const fs::path dir = fs::temp_directory_path() / "sable_test_silo";
-  fs::remove_all(dir);
-  const Study dem = run_case("dem-2d", dir / "dem");
-  const Study cd = run_case("cd-2d", dir / "cd");
-  for (const auto* st : {&dem, &cd}) {
-    SCOPED_TRACE(st == &dem ? "DEM" : "CD");
-    // Global balance: at rest, floor support plus wall friction carry the weight (1 %: the
-    // issue's bound; DEM's residual vibration and CD's 1e-4 tolerance are far below it).
-    EXPECT_NEAR(json_number(st->before, {"janssen", "support_over_weight"}), 1.0, 0.01);
-    EXPECT_NEAR(json_number(st->after, {"janssen", "support_over_weight"}), 1.0, 0.01);
-    // During the descent the grains' momentum changes too; with it the balance is exact.
-    EXPECT_NEAR(json_number(st->relax, {"janssen", "support_minus_momentum_rate_over_weight"}), 1.0,
-                1e-6);
-    // Lowering the bottom mobilises wall friction: before, the walls carry almost nothing
-    // (shear / normal and the fraction on the cone small); during the descent, most wall
-    // contacts slide and shear / normal approaches mu_w.
-    const double ratio_before = wall_ratio(st->before), ratio_relax = wall_ratio(st->relax);
-    std::cout << "wall shear / normal: before " << ratio_before << ", descent " << ratio_relax
-              << "; on the cone: before " << on_cone(st->before) << ", descent "
-              << on_cone(st->relax) << "\n";
-    EXPECT_LT(ratio_before, 0.25 * kMuWall);
-    EXPECT_GT(ratio_relax, 0.75 * kMuWall);
-    EXPECT_LT(on_cone(st->before), 0.1);
-    EXPECT_GT(on_cone(st->relax), 0.6);
-    // Janssen with the friction the walls mobilise (sum ft / sum fn) predicts the floor's
-    // stress within 5 % (the averaged profile's scatter), far below the hydrostatic rho_b g H.
-    const double floor = json_number(st->relax, {"janssen", "floor_stress_Pa"});
-    const double janssen =
-        json_number(st->relax, {"with_mobilised_friction", "janssen_sigma_zz_bottom_Pa"});
-    const double hydrostatic = json_number(st->relax, {"janssen", "hydrostatic_bottom_Pa"});
-    EXPECT_NEAR(floor / janssen, 1.0, 0.05);
-    EXPECT_LT(floor, 0.6 * hydrostatic);
-  }
-  // The descent's last snapshot obeys Coulomb's law at the walls in both solvers.
-  check_coulomb_at_walls(dem.snapshots / "end_of_stage_2.h5", 1e-9);
-  check_coulomb_at_walls(cd.snapshots / "end_of_stage_2.h5", 1e-3);
-  // The profile has Janssen's shape (R^2 of the fit; CD averages 13 snapshots of a slowly
-  // rearranging network) and both solvers give the same K within two combined standard errors.
+// What a study must show, before and during the descent.
+struct Bounds {
+  double min_on_cone;  // fraction of side-wall contacts on the Coulomb cone, descent
+  double min_ratio;    // wall shear / normal during the descent, in [min, max] * mu_w
+  double max_ratio;
+  double max_ratio_before;  // wall shear / normal at rest before the descent, below this * mu_w
+  double floor_tolerance;   // floor stress / Janssen's (mobilised friction) within 1 +- this
+};
+
+// The checks common to every variant, on one solver's study.
+void check_study(const Study& st, const Bounds& b) {
+  // Global balance: at rest, floor support plus wall friction carry the weight (1 %: the
+  // issue's bound; DEM's residual vibration and CD's 1e-4 tolerance are far below it).
+  EXPECT_NEAR(json_number(st.before, {"janssen", "support_over_weight"}), 1.0, 0.01);
+  EXPECT_NEAR(json_number(st.after, {"janssen", "support_over_weight"}), 1.0, 0.01);
+  // During the descent the grains' momentum changes too; with it the balance is exact.
+  EXPECT_NEAR(json_number(st.relax, {"janssen", "support_minus_momentum_rate_over_weight"}), 1.0,
+              1e-6);
+  // Lowering the bottom mobilises wall friction: before, the walls carry almost nothing
+  // (shear / normal and the fraction on the cone small); during the descent, wall contacts
+  // slide and shear / normal approaches mu_w.
+  const double ratio_before = wall_ratio(st.before), ratio_relax = wall_ratio(st.relax);
+  std::cout << "wall shear / normal: before " << ratio_before << ", descent " << ratio_relax
+            << "; on the cone: before " << on_cone(st.before) << ", descent " << on_cone(st.relax)
+            << "\n";
+  EXPECT_LT(ratio_before, b.max_ratio_before * kMuWall);
+  EXPECT_GE(ratio_relax, b.min_ratio * kMuWall);
+  EXPECT_LE(ratio_relax, b.max_ratio * kMuWall);
+  EXPECT_LT(on_cone(st.before), 0.1);
+  EXPECT_GE(on_cone(st.relax), b.min_on_cone);
+  // Janssen with the friction the walls mobilise (sum ft / sum fn) predicts the floor's
+  // stress (within the averaged profile's scatter), far below the hydrostatic rho_b g H.
+  const double floor = json_number(st.relax, {"janssen", "floor_stress_Pa"});
+  const double janssen =
+      json_number(st.relax, {"with_mobilised_friction", "janssen_sigma_zz_bottom_Pa"});
+  const double hydrostatic = json_number(st.relax, {"janssen", "hydrostatic_bottom_Pa"});
+  EXPECT_NEAR(floor / janssen, 1.0, b.floor_tolerance);
+  EXPECT_LT(floor, 0.6 * hydrostatic);
+  // The descent's last snapshot obeys Coulomb's law at the walls (DEM: the capped spring,
+  // exact; CD: the cone, to the solver's tolerance).
+  check_coulomb_at_walls(st.snapshots / "end_of_stage_2.h5", st.dem ? 1e-9 : 1e-3);
+}
+
+// Both solvers give the same K within two combined standard errors.
+void check_same_k(const Study& dem, const Study& cd) {
   const double k_dem = json_number(dem.relax, {"janssen", "K"});
   const double k_cd = json_number(cd.relax, {"janssen", "K"});
   const double se = std::hypot(json_number(dem.relax, {"janssen", "K_stderr"}),
@@ -180,7 +188,45 @@ TEST(SiloJanssen, DumontFortinOuafikSiloByDemAndCd) {
             << "; R2: DEM " << json_number(dem.relax, {"janssen", "r2"}) << ", CD "
             << json_number(cd.relax, {"janssen", "r2"}) << "\n";
   EXPECT_LT(std::abs(k_dem - k_cd), 2.0 * se);
+}
+
+// The paper's set-up as given: freely rotating disks. A quarter of the wall grains roll down
+// the wall instead of sliding (docs/examples.md), so 71-77 % of the wall contacts reach the
+// cone and shear / normal is ~0.20: bounds 0.6 and 0.75 mu_w, met with margin. At rest before
+// the descent the walls carry almost no shear (< mu_w / 4); the floor stress is Janssen's
+// within 5 % (measured: 0.1 % CD, 4 % DEM).
+TEST(SiloJanssen, DumontFortinOuafikSiloByDemAndCd) {
+  const fs::path dir = fs::temp_directory_path() / "sable_test_silo";
+  fs::remove_all(dir);
+  const Study dem = run_case("dem-2d", dir / "dem");
+  const Study cd = run_case("cd-2d", dir / "cd");
+  for (const auto* st : {&dem, &cd}) {
+    SCOPED_TRACE(st == &dem ? "DEM" : "CD");
+    check_study(*st, {0.6, 0.75, 1.0, 0.25, 0.05});
+  }
+  check_same_k(dem, cd);
+  // The profile has Janssen's shape (R^2 of the fit; CD averages 13 snapshots of a slowly
+  // rearranging network).
   EXPECT_GE(json_number(cd.relax, {"janssen", "r2"}), 0.9);
+  fs::remove_all(dir);
+}
+
+// With a rolling friction of 0.1 (silo-{cd,dem}-2d-rolling.toml) the wall grains slide: the
+// issue's bounds, at least 90 % of the wall contacts on the cone and shear / normal = mu_w
+// within 5 % (measured on this seed: DEM 97.9 % and 0.247, CD 99.2 % and 0.249). Rolling
+// resistance lets the deposit at rest hold some wall shear (CD: 0.09, DEM: -0.03), still
+// well under the descent's: bound mu_w / 2. One DEM seed's network puts the floor stress
+// 0.91-1.07 of Janssen's (single seeds, descent_scan.sh): bound 10 %.
+TEST(SiloJanssen, RollingResistantSiloPutsWallContactsOnTheCone) {
+  const fs::path dir = fs::temp_directory_path() / "sable_test_silo_rolling";
+  fs::remove_all(dir);
+  const Study dem = run_case("dem-2d-rolling", dir / "dem");
+  const Study cd = run_case("cd-2d-rolling", dir / "cd");
+  for (const auto* st : {&dem, &cd}) {
+    SCOPED_TRACE(st == &dem ? "DEM" : "CD");
+    check_study(*st, {0.9, 0.95, 1.05, 0.5, 0.1});
+  }
+  check_same_k(dem, cd);
   fs::remove_all(dir);
 }
 

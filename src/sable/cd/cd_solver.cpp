@@ -61,6 +61,35 @@ class CdSolver<D>::Problem {
     }
   }
 
+  // Rolling resistance, the rigid limit of contact/rolling.hpp: the couple m on grain i (an
+  // impulse: couple times h) holds the relative rolling velocity at zero while
+  // |m| <= mu_r R* r_N, and otherwise sits at that cap, against the rolling. Exact for one
+  // contact: a round grain's inertia is isotropic, so the rolling velocity answers m along m
+  // alone, with 1/I_i + 1/I_j. Called by NLGS after each update of the contact's impulse.
+  void solve_extra(std::size_t a) {
+    using S = Space<D>;
+    if (c_.m.empty()) return;
+    const std::uint32_t i = c_.i[a], j = c_.partner[a];
+    const bool grain = !c_.wall[a];
+    const double w_r = p_.inv_inertia[i] + (grain ? p_.inv_inertia[j] : 0.0);
+    if (w_r == 0.0) return;
+    Rot w_rel = grain ? Rot(p_.w[i] - p_.w[j]) : p_.w[i];
+    if constexpr (D == 3) w_rel -= w_rel.dot(c_.frame[a].col(0)) * c_.frame[a].col(0);
+    Rot m = c_.m[a] - w_rel / w_r;
+    const double cap = c_.roll_cap[a] * std::max(c_.r[a][0], 0.0);
+    const double m2 = S::rot_norm2(m);
+    if (m2 > cap * cap) m *= cap / std::sqrt(m2);
+    apply_couple(a, m - c_.m[a]);
+  }
+
+  // m_a += dm, and the grains' spins with it.
+  void apply_couple(std::size_t a, const Rot& dm) {
+    const std::uint32_t i = c_.i[a], j = c_.partner[a];
+    c_.m[a] += dm;
+    p_.w[i] += p_.inv_inertia[i] * dm;
+    if (!c_.wall[a]) p_.w[j] -= p_.inv_inertia[j] * dm;
+  }
+
  private:
   Contacts& c_;
   ParticleStore<D>& p_;
@@ -83,6 +112,8 @@ void CdSolver<D>::Contacts::clear() {
   mu.clear();
   gap.clear();
   r.clear();
+  roll_cap.clear();
+  m.clear();
 }
 
 namespace {
@@ -109,6 +140,8 @@ cd::LMat<D> contact_frame(const typename Space<D>::Vec& n) {
 
 template <int D>
 void CdSolver<D>::initialize() {
+  // The lists carry rolling couples exactly when the law has rolling resistance.
+  w_.neighbors.rolling = w_.model.rolling != RollingModel::kNone;
   w_.neighbors.build(w_.particles, w_.walls);
 }
 
@@ -153,6 +186,11 @@ void CdSolver<D>::step() {
       const LVec r0 = c_.r[a];
       c_.r[a].setZero();
       if (r0.squaredNorm() > 0.0) problem.apply(a, r0);
+    }
+    for (std::size_t a = 0; a < c_.m.size(); ++a) {
+      const Rot m0 = c_.m[a];
+      c_.m[a] = S::zero_rot();
+      problem.apply_couple(a, m0);
     }
     result_ = cd::solve_nlgs<D>(problem, s_.nlgs, w_.rng);
   }
@@ -216,7 +254,7 @@ template <int D>
 template <bool kWall>
 void CdSolver<D>::add_contact(std::uint32_t i, std::uint32_t partner, std::uint32_t source,
                               const Vec& n, double gap, const Vec& arm_i, const Vec& arm_j,
-                              double mu, const Vec& force) {
+                              const PairParams& pp, const Vec& force, const Rot& couple) {
   using S = Space<D>;
   const auto& p = w_.particles;
   const LMat frame = contact_frame<D>(n);
@@ -244,9 +282,16 @@ void CdSolver<D>::add_contact(std::uint32_t i, std::uint32_t partner, std::uint3
   c_.arm_i.push_back(arm_i);
   c_.arm_j.push_back(arm_j);
   c_.w.push_back(w);
-  c_.mu.push_back(mu);
+  c_.mu.push_back(pp.friction);
   c_.gap.push_back(gap);
   c_.r.push_back(s_.warm_start ? LVec(frame.transpose() * force * w_.dt) : LVec::Zero());
+  if (w_.model.rolling == RollingModel::kNone) return;
+  const double r_i = p.radius[i];
+  const double r_eff = kWall ? r_i : r_i * p.radius[partner] / (r_i + p.radius[partner]);
+  c_.roll_cap.push_back(pp.rolling_friction * r_eff);
+  Rot m = s_.warm_start ? Rot(couple * w_.dt) : S::zero_rot();
+  if constexpr (D == 3) m -= m.dot(n) * n;  // last step's couple, in the new tangent plane
+  c_.m.push_back(m);
 }
 
 // The problem holds the candidates whose gap can close within the step: gap <= 2 h v_max,
@@ -255,11 +300,17 @@ void CdSolver<D>::add_contact(std::uint32_t i, std::uint32_t partner, std::uint3
 // unknowns that stay zero, and their large gap/h would dilute the convergence measures.
 template <int D>
 void CdSolver<D>::build_contacts() {
+  using S = Space<D>;
   c_.clear();
   const auto& p = w_.particles;
   auto& pl = w_.neighbors.pairs;
   auto& wl = w_.neighbors.wall_pairs;
   const double reach = 2.0 * w_.dt * max_speed();
+  // Rolling resistance: the lists' `roll` slots hold each contact's couple (N m) on its grain
+  // i, for the warm start and the outputs (DEM keeps its rolling spring there).
+  const bool rolling = w_.model.rolling != RollingModel::kNone;
+  if (rolling && pl.roll.size() != pl.size()) pl.roll.assign(pl.size(), S::zero_rot());
+  if (rolling && wl.roll.size() != wl.size()) wl.roll.assign(wl.size(), S::zero_rot());
   for (std::size_t k = 0; k < pl.size(); ++k) {
     const std::uint32_t i = pl.i[k], j = pl.j[k];
     const Vec d = p.x[i] - p.x[j];
@@ -267,12 +318,13 @@ void CdSolver<D>::build_contacts() {
     const double gap = dist - p.radius[i] - p.radius[j];
     if (gap > reach) {
       pl.force[k].setZero();
+      if (rolling) pl.roll[k] = S::zero_rot();
       continue;
     }
     const Vec n = d / dist;
-    const double mu = w_.materials.pair(p.material[i], p.material[j]).friction;
     add_contact<false>(i, j, static_cast<std::uint32_t>(k), n, gap, -p.radius[i] * n,
-                       p.radius[j] * n, mu, pl.force[k]);
+                       p.radius[j] * n, w_.materials.pair(p.material[i], p.material[j]),
+                       pl.force[k], rolling ? pl.roll[k] : S::zero_rot());
   }
   for (std::size_t k = 0; k < wl.size(); ++k) {
     const std::uint32_t i = wl.i[k];
@@ -285,11 +337,13 @@ void CdSolver<D>::build_contacts() {
                                   : wall.velocity.norm();
     if (dist - p.radius[i] > reach + w_.dt * wall_speed) {
       wl.force[k].setZero();
+      if (rolling) wl.roll[k] = S::zero_rot();
       continue;
     }
-    const double mu = w_.materials.pair(p.material[i], wall.material).friction;
     add_contact<true>(i, wl.wall[k], static_cast<std::uint32_t>(k), n, dist - p.radius[i],
-                      -p.radius[i] * n, Vec::Zero(), mu, wl.force[k]);
+                      -p.radius[i] * n, Vec::Zero(),
+                      w_.materials.pair(p.material[i], wall.material), wl.force[k],
+                      rolling ? wl.roll[k] : S::zero_rot());
   }
 }
 
@@ -319,6 +373,16 @@ void CdSolver<D>::store_impulses() {
       nl.pairs.force[c_.source[a]] = f;
       p.f[j] -= f;
       p.t[j] -= S::moment(c_.arm_j[a], f);
+    }
+    if (!c_.m.empty()) {
+      const Rot couple = c_.m[a] / w_.dt;
+      p.t[i] += couple;
+      if (c_.wall[a]) {
+        nl.wall_pairs.roll[c_.source[a]] = couple;
+      } else {
+        nl.pairs.roll[c_.source[a]] = couple;
+        p.t[j] -= couple;
+      }
     }
     const double r_min = c_.wall[a] ? p.radius[i] : std::min(p.radius[i], p.radius[j]);
     diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, -c_.gap[a] / r_min);

@@ -35,6 +35,7 @@ template <int D>
 class CdSolver final : public Solver {
  public:
   using Vec = typename Space<D>::Vec;
+  using Rot = typename Space<D>::Rot;
   using LVec = cd::LVec<D>;
   using LMat = cd::LMat<D>;
 
@@ -63,6 +64,10 @@ class CdSolver final : public Solver {
     std::vector<double> mu;
     std::vector<double> gap;  // at the start of the step; max(gap, 0) / h joins U_N
     std::vector<LVec> r;      // impulse, local frame
+    // Rolling resistance only (else empty): mu_r R* (the couple's cap over the normal
+    // impulse) and the rolling impulse on grain i (a couple times h; its partner gets minus).
+    std::vector<double> roll_cap;
+    std::vector<Rot> m;
     std::size_t size() const { return i.size(); }
     void clear();
   };
@@ -84,7 +89,8 @@ class CdSolver final : public Solver {
   void build_contacts();
   template <bool kWall>
   void add_contact(std::uint32_t i, std::uint32_t partner, std::uint32_t source, const Vec& n,
-                   double gap, const Vec& arm_i, const Vec& arm_j, double mu, const Vec& force);
+                   double gap, const Vec& arm_i, const Vec& arm_j, const PairParams& pp,
+                   const Vec& force, const Rot& couple);
   void store_impulses();
   void start_wall_bodies();
   double max_speed() const;

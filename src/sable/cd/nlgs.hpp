@@ -62,6 +62,9 @@ struct NlgsResult {
 //   LVec<d> velocity(std::size_t a) const;         U_a = sum_b W_ab r_b + q_a, current
 //   void apply(std::size_t a, const LVec<d>& dr);  r_a += dr, and update whatever U_b depend on
 //   double q_norm() const;                         ||q|| (for the natural-map normalisation)
+//   void solve_extra(std::size_t a);               optional: called after each apply() of a
+//                                                  sweep, for unknowns beside the impulse
+//                                                  (the grain problem's rolling couples)
 
 // Euclidean projection of x onto the Coulomb cone K_mu = { |x_T| <= mu x_N }.
 template <int d>

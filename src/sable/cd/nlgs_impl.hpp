@@ -54,6 +54,9 @@ SweepStats nlgs_sweep(Problem& problem, std::span<const std::size_t> order, cons
     const LVec<d> r_loc = solve_local<d>(W, q, problem.mu(a), r_old, s.local);
     const LVec<d> dr = s.relaxation * (r_loc - r_old);
     problem.apply(a, dr);
+    // A problem with more unknowns per contact than the impulse (rolling couples) solves them
+    // right after, from the contact's new normal impulse.
+    if constexpr (requires { problem.solve_extra(a); }) problem.solve_extra(a);
     if (track) {
       const LVec<d> u_new = U + W * dr;
       const double du = (u_new - last_u[a]).norm();

@@ -138,6 +138,7 @@ void NeighborList<D>::build_pairs(const ParticleStore<D>& p, PairList<D>& out) {
   out.shear.assign(out.size(), Vec::Zero());
   out.force.assign(out.size(), Vec::Zero());
   if (bridges) out.bridge.assign(out.size(), PairList<D>::kNoBridge);
+  if (rolling) out.roll.assign(out.size(), Space<D>::zero_rot());
 }
 
 template <int D>
@@ -156,6 +157,7 @@ void NeighborList<D>::build_wall_pairs(const ParticleStore<D>& p, const std::vec
   }
   out.shear.assign(out.size(), Vec::Zero());
   out.force.assign(out.size(), Vec::Zero());
+  if (rolling) out.roll.assign(out.size(), Space<D>::zero_rot());
 }
 
 // Copy history of entries present in both sorted lists (keyed by (a, b)). `skipped(o)` is
@@ -174,6 +176,8 @@ static void carry_history(const List& old_list, List& new_list, KeyA a, KeyB b, 
       new_list.force[k] = old_list.force[o];
       if constexpr (requires { new_list.bridge; })
         if (!new_list.bridge.empty()) new_list.bridge[k] = old_list.bridge[o];
+      if (!new_list.roll.empty() && old_list.roll.size() == old_list.size())
+        new_list.roll[k] = old_list.roll[o];
       ++o;
     }
   }

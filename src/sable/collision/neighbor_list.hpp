@@ -26,6 +26,9 @@ struct PairList {
   // has capillary cohesion (NeighborList::bridges), so dry runs carry nothing.
   std::vector<double> bridge;
   static constexpr double kNoBridge = -1.0;
+  // Rolling spring (contact/rolling.hpp), empty unless the law has rolling resistance
+  // (NeighborList::rolling).
+  std::vector<typename Space<D>::Rot> roll;
   std::size_t size() const { return i.size(); }
   void clear() {
     i.clear();
@@ -33,6 +36,7 @@ struct PairList {
     shear.clear();
     force.clear();
     bridge.clear();
+    roll.clear();
   }
 };
 
@@ -50,13 +54,15 @@ struct WallPairList {
   std::vector<std::uint32_t> i;     // grain slot
   std::vector<std::uint32_t> wall;  // wall index
   std::vector<Vec> shear;
-  std::vector<Vec> force;  // last force on the grain
+  std::vector<Vec> force;                    // last force on the grain
+  std::vector<typename Space<D>::Rot> roll;  // as PairList::roll
   std::size_t size() const { return i.size(); }
   void clear() {
     i.clear();
     wall.clear();
     shear.clear();
     force.clear();
+    roll.clear();
   }
 };
 
@@ -79,6 +85,7 @@ class NeighborList {
   std::vector<Vec> wall_ref;  // wall points at the last build
   std::uint64_t builds = 0;
   bool bridges = false;                        // pairs carry a bridge volume (capillary law)
+  bool rolling = false;                        // both lists carry a rolling spring
   std::vector<DroppedBridge> dropped_bridges;  // filled by build(), consumed by the solver
 
   // Incidence of the wall list, derived from it (never saved): grain i is the grain of wall

@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "sable/contact/capillary.hpp"
+#include "sable/contact/rolling.hpp"
 #include "sable/core/material.hpp"
 #include "sable/core/space.hpp"
 
@@ -39,6 +40,11 @@ struct ContactModel {
   // (contact/capillary.hpp) are DEM only, in 3D; their volumes live in the pair list.
   CohesionModel cohesion = CohesionModel::kNone;
   CapillaryParams capillary;
+  // Rolling resistance (contact/rolling.hpp), with each pair's rolling friction mu_r from its
+  // materials. rolling_damping is eta_r, the damping of the elastic regime as a fraction of
+  // critical (DEM; contact dynamics has no spring).
+  RollingModel rolling = RollingModel::kNone;
+  double rolling_damping = 0.3;
 };
 
 // The registry: every sub-model by category and name, the single source for scenario names,
@@ -57,6 +63,10 @@ inline constexpr SubModelEntry kContactSubModels[] = {
     {"tangential", "history", static_cast<int>(TangentialModel::kHistory),
      "Mindlin spring on the accumulated tangential displacement, Coulomb-capped"},
     {"tangential", "none", static_cast<int>(TangentialModel::kNone), "frictionless contact"},
+    {"rolling", "none", static_cast<int>(RollingModel::kNone), "grains roll freely"},
+    {"rolling", "epsd", static_cast<int>(RollingModel::kEpsd),
+     "elastic-plastic spring-dashpot couple, capped at mu_r R* F_n (Iwashita & Oda 1998; Ai et "
+     "al. 2011 model C); CD: its rigid limit"},
     {"cohesion", "none", static_cast<int>(CohesionModel::kNone), "dry grains"},
     {"cohesion", "capillary", static_cast<int>(CohesionModel::kCapillary),
      "liquid bridges, Richefeu et al. 2009 eq. 1-8: -kappa R in contact, exponential decay to "

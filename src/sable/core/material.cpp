@@ -1,5 +1,6 @@
 #include "sable/core/material.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -43,6 +44,7 @@ PairParams MaterialTable::mix(const Material& a, const Material& b) {
   // takes the smaller (weaker surface) of the two, the usual conservative choice.
   p.restitution = std::sqrt(a.restitution * b.restitution);
   p.friction = std::min(a.friction, b.friction);
+  p.rolling_friction = std::min(a.rolling_friction, b.rolling_friction);
   p.beta = beta_from_restitution(p.restitution);
   return p;
 }
@@ -56,6 +58,7 @@ void MaterialTable::finalize() {
     for (auto [i, j] : {std::pair{o.a, o.b}, std::pair{o.b, o.a}}) {
       PairParams& p = pairs_[static_cast<std::size_t>(i) * n + j];
       if (o.friction) p.friction = *o.friction;
+      if (o.rolling_friction) p.rolling_friction = *o.rolling_friction;
       if (o.restitution) {
         p.restitution = *o.restitution;
         p.beta = beta_from_restitution(p.restitution);

@@ -22,7 +22,7 @@ struct Material {
   double poisson = 0.0;           // [0, 0.5)
   double restitution = 1.0;       // (0, 1]
   double friction = 0.0;          // Coulomb coefficient, >= 0
-  double rolling_friction = 0.0;  // reserved for the rolling sub-model
+  double rolling_friction = 0.0;  // mu_r of the rolling sub-model (contact/rolling.hpp), >= 0
   bool rigid = false;  // infinite stiffness (a wall that does not deform): zero compliance
 };
 
@@ -30,6 +30,7 @@ struct PairOverride {
   MaterialIndex a = 0, b = 0;
   std::optional<double> friction;
   std::optional<double> restitution;
+  std::optional<double> rolling_friction;
   std::optional<double> young_star;  // effective modulus Y* directly, Pa
 };
 
@@ -40,7 +41,8 @@ struct PairParams {
   double beta = 0.0;    // ln e / sqrt(ln^2 e + pi^2); 0 for e = 1
   double restitution = 1.0;
   double friction = 0.0;
-  double st_over_sn_sqrt = 0.0;  // sqrt(4 G* / Y*): Hertz gamma_t / gamma_n, precomputed
+  double rolling_friction = 0.0;  // mu_r: the rolling couple is at most mu_r R* F_n
+  double st_over_sn_sqrt = 0.0;   // sqrt(4 G* / Y*): Hertz gamma_t / gamma_n, precomputed
 };
 
 // The pair table as plain pointer and size, for hot loops (dem/dem_solver.cpp: a local copy

@@ -40,6 +40,8 @@ enum class Sum : std::uint8_t { kGather, kScatter, kScatterChecked };
 
 template <int D>
 void DemSolver<D>::initialize() {
+  // The lists carry rolling springs exactly when the law has rolling resistance.
+  w_.neighbors.rolling = w_.model.rolling != RollingModel::kNone;
   w_.neighbors.build(w_.particles, w_.walls);
   compute_forces();
 }
@@ -146,9 +148,11 @@ void DemSolver<D>::compute_forces() {
     auto scope = timers_.time(Phase::kNeighbors);
     if (near_.stale(w_.particles, nl, wet)) {
       // An entry left out is apart: clear it as the force pass would have.
+      const bool rolling = nl.pairs.roll.size() == nl.pairs.size();
       near_.remake(w_.particles, nl, w_.dt, wet, [&](std::size_t k) {
         forget_if_ended(nl.pairs.shear.data(), nl.pairs.force.data(), pair_moment_.data(),
                         pair_delta_.data(), k, Space<D>::zero_rot());
+        if (rolling) nl.pairs.roll[k] = Space<D>::zero_rot();
       });
     }
     diag_.near_remakes = near_.remakes;
@@ -166,6 +170,10 @@ void DemSolver<D>::compute_forces() {
     auto scope = timers_.time(Phase::kWallForces);
     hertz ? wall_forces<HertzNormal>() : wall_forces<LinearNormal>();
     accumulate(wet);
+  }
+  if (w_.model.rolling != RollingModel::kNone) {
+    auto scope = timers_.time(Phase::kForces);
+    hertz ? rolling_torques<HertzNormal>() : rolling_torques<LinearNormal>();
   }
 }
 

@@ -33,6 +33,9 @@ class DemSolver final : public Solver {
   template <class Normal>
   void wall_forces();
   void accumulate(bool all);
+  template <class Normal>
+  void rolling_torques();  // dem/rolling_pass.cpp
+  void add_rolling_torques();
   void settle_liquid();
 
   World<D>& w_;
@@ -43,6 +46,8 @@ class DemSolver final : public Solver {
   // runs those of gathered grains): elsewhere it may be stale. Apart entries hold zeros.
   std::vector<typename Space<D>::Rot> pair_moment_, wall_moment_;
   std::vector<double> pair_delta_, wall_delta_;  // 0 apart, > 0 overlap, -1 unknown
+  // Rolling resistance only: each contact's couple on its first grain (near entries and walls).
+  std::vector<typename Space<D>::Rot> pair_roll_, wall_roll_;
   // The dry pass's blocks of grains, one per thread, and the grains it leaves to the gather.
   std::vector<std::uint32_t> grain_block_;
   std::vector<std::uint8_t> gathered_;

@@ -1,11 +1,12 @@
 #include "sable/io/snapshot.hpp"
 
 #include <fmt/format.h>
-#include <cmath>
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 
 #include "sable/core/error.hpp"
@@ -153,6 +154,18 @@ void write_neighbors(h5::File& f, const NeighborList<D>& nl) {
   write_rows(f, "/neighbors/wall_pairs/force", nl.wall_pairs.force);
   f.write_attr("/neighbors", "skin", nl.skin);
   f.write_attr("/neighbors", "builds", nl.builds);
+}
+
+// Rolling springs (contact/rolling.hpp), only for a law with rolling resistance.
+template <int D>
+void write_rolling(h5::File& f, const NeighborList<D>& nl) {
+  if (!nl.rolling) return;
+  // The builder, both solvers and load_snapshot keep one spring per entry; padding here would
+  // write springs the state hash did not see (an unloadable file).
+  if (nl.pairs.roll.size() != nl.pairs.size() || nl.wall_pairs.roll.size() != nl.wall_pairs.size())
+    throw std::logic_error("snapshot: the rolling springs do not match the contact lists");
+  write_rows(f, "/neighbors/pairs/roll", nl.pairs.roll);
+  write_rows(f, "/neighbors/wall_pairs/roll", nl.wall_pairs.roll);
 }
 
 // Capillary bridges and the grains' films, only for a wet contact law (contact/liquid.hpp).
@@ -367,6 +380,28 @@ void read_neighbors(const h5::File& f, std::size_t n, std::size_t walls, Neighbo
   check_pairs(f, nl, n, walls);
 }
 
+// The rolling springs, if the file has them (s.neighbors.rolling says so). A file without
+// them resumed by a law with rolling resistance starts its springs at zero; a file with them
+// resumed by a law without drops them (load_snapshot).
+template <int D>
+void read_rolling(const h5::File& f, Loaded<D>& s) {
+  using Rot = typename Space<D>::Rot;
+  auto& nl = s.neighbors;
+  nl.rolling = f.exists("/neighbors/pairs/roll");
+  if (!nl.rolling) return;
+  auto read = [&](const std::string& name, std::size_t rows, const std::string& why) {
+    std::vector<Rot> roll = read_rows<Rot>(f, name, rows, why);
+    for (std::size_t k = 0; k < roll.size(); ++k)
+      if (!std::isfinite(Space<D>::rot_norm2(roll[k])))
+        f.fail(fmt::format("'{}' row {} is not finite; expected a rolling spring (rad)", name, k));
+    return roll;
+  };
+  nl.pairs.roll =
+      read("/neighbors/pairs/roll", nl.pairs.size(), "one per pair, as '/neighbors/pairs/i'");
+  nl.wall_pairs.roll = read("/neighbors/wall_pairs/roll", nl.wall_pairs.size(),
+                            "one per wall pair, as '/neighbors/wall_pairs/i'");
+}
+
 template <int D>
 void read_liquid(const h5::File& f, bool wet_model, std::size_t grains, Loaded<D>& s) {
   auto& pl = s.neighbors.pairs;
@@ -450,6 +485,7 @@ void save_snapshot(const World<D>& world, const RunPosition& pos, const std::str
     write_walls(f, world.walls);
     write_neighbors(f, world.neighbors);
     write_liquid(f, world);
+    write_rolling(f, world.neighbors);
     f.close();
   });
 }
@@ -470,14 +506,28 @@ RunPosition load_snapshot(const std::string& path, World<D>& world, std::string*
   read_walls(f, world.walls, s);
   read_neighbors(f, s.particles.size(), world.walls.size(), s.neighbors);
   read_liquid(f, world.neighbors.bridges, s.particles.size(), s);
+  read_rolling(f, s);
   std::string text = f.read_string("/scenario");
   swap_state(world, s);
-  if (const std::uint64_t h = state_hash(world); h != s.hash) {
+  // The state as it was written: with rolling springs if the file has them.
+  const bool rolling = world.neighbors.rolling;
+  world.neighbors.rolling = s.neighbors.rolling;
+  const std::uint64_t h = state_hash(world);
+  world.neighbors.rolling = rolling;
+  if (h != s.hash) {
     swap_state(world, s);  // put the caller's world back as it was
     f.fail(
         fmt::format("the loaded state hashes to {:016x}, but attribute 'state_hash' on '/' is "
                     "{:016x}: the file is corrupt or was written by an incompatible build",
                     h, s.hash));
+  }
+  auto& nl = world.neighbors;
+  if (!rolling) {
+    nl.pairs.roll.clear();
+    nl.wall_pairs.roll.clear();
+  } else if (!s.neighbors.rolling) {
+    nl.pairs.roll.assign(nl.pairs.size(), Space<D>::zero_rot());
+    nl.wall_pairs.roll.assign(nl.wall_pairs.size(), Space<D>::zero_rot());
   }
   if (scenario_text != nullptr) *scenario_text = std::move(text);
   return s.pos;

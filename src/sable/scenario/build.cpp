@@ -64,6 +64,7 @@ void build_model(const ScenarioConfig& cfg, World<D>& w) {
     po.b = material_index(w, o.b);
     po.friction = o.friction;
     po.restitution = o.restitution;
+    po.rolling_friction = o.rolling_friction;
     w.materials.add_override(po);
   }
   w.materials.finalize();
@@ -81,6 +82,9 @@ void build_model(const ScenarioConfig& cfg, World<D>& w) {
   w.model.capillary.ruptured =
       c.ruptured_liquid == "lost" ? RupturedLiquid::kLost : RupturedLiquid::kGrains;
   w.neighbors.bridges = w.model.cohesion == CohesionModel::kCapillary;
+  w.model.rolling = c.rolling == "epsd" ? RollingModel::kEpsd : RollingModel::kNone;
+  w.model.rolling_damping = c.rolling_damping;
+  w.neighbors.rolling = w.model.rolling != RollingModel::kNone;
   for (const auto& wc : cfg.walls) add_walls(wc, w);
   w.gravity = S::from_array(cfg.sim.gravity);
   w.thickness = cfg.sim.thickness;

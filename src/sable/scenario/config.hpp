@@ -71,6 +71,7 @@ struct PairOverrideConfig {
   std::string a, b;
   std::optional<double> friction;
   std::optional<double> restitution;
+  std::optional<double> rolling_friction;
   SourceLoc loc;
 };
 
@@ -87,6 +88,9 @@ struct ContactConfig {
   double contact_angle_deg = 0.0;          // degrees; 0 = perfectly wetting (the paper's)
   double capillary_c = 0.9;                // constant c of the decay length (eq. 6)
   std::string ruptured_liquid = "grains";  // "grains" | "lost" (contact/liquid.hpp)
+  // Rolling sub-model: "none" | "epsd" (contact/rolling.hpp); eta_r, a fraction of critical.
+  std::string rolling = "none";
+  double rolling_damping = 0.3;
   SourceLoc loc;
 };
 

@@ -134,7 +134,7 @@ std::string material_ref(const Table& t, const std::vector<MaterialConfig>& mate
 }
 
 PairOverrideConfig parse_pair(const Table& t, const std::vector<MaterialConfig>& materials) {
-  t.check_keys({"materials", "friction", "restitution"});
+  t.check_keys({"materials", "friction", "restitution", "rolling_friction"});
   const toml::array* names = t.array("materials");
   if (names == nullptr) t.fail_missing("materials", "an array of 2 material names");
   if (names->size() != 2 || !names->is_homogeneous(toml::node_type::string)) {
@@ -149,6 +149,7 @@ PairOverrideConfig parse_pair(const Table& t, const std::vector<MaterialConfig>&
   }
   p.friction = t.number("friction", kNonNegative);
   p.restitution = t.number("restitution", kRestitution);
+  p.rolling_friction = t.number("rolling_friction", kNonNegative);
   p.loc = t.loc();
   return p;
 }
@@ -188,13 +189,20 @@ ContactConfig parse_contact(const Table& root) {
   const auto t = root.table("contact");
   if (!t) return c;
   t->check_keys({"normal", "tangential", "attractive_damping", "keep_spring_length", "kn", "kt",
-                 "cohesion", "surface_tension", "contact_angle", "capillary_c", "ruptured_liquid"});
+                 "cohesion", "surface_tension", "contact_angle", "capillary_c", "ruptured_liquid",
+                 "rolling", "rolling_damping"});
   c.normal = t->choice("normal", {"hertz", "linear"}, c.normal);
   c.tangential = t->choice("tangential", {"history", "none"}, c.tangential);
   c.attractive_damping = t->boolean_or("attractive_damping", c.attractive_damping);
   c.keep_spring_length = t->boolean_or("keep_spring_length", c.keep_spring_length);
   c.loc = t->loc();
   parse_cohesion(*t, c);
+  c.rolling = t->choice("rolling", {"none", "epsd"}, c.rolling);
+  if (c.rolling == "none")
+    t->reject("rolling_damping", "unless rolling = \"epsd\"");
+  else
+    c.rolling_damping =
+        t->number_or("rolling_damping", Range{0.0, 1.0, false, false}, c.rolling_damping);
   if (c.normal != "linear") {
     const std::string why = "to normal = " + in_quotes(c.normal) + " (only to normal = \"linear\")";
     t->reject("kn", why);
@@ -636,6 +644,27 @@ OutputConfig parse_output(const Table& root) {
   return o;
 }
 
+// A rolling friction needs the rolling sub-model (it would otherwise be silently ignored),
+// and the sub-model a dry law; contact dynamics takes no rolling damping.
+void check_rolling(const Table& root, const ScenarioConfig& cfg) {
+  const char* key = "rolling_friction";
+  if (cfg.contact.rolling == "none") {
+    const std::string why =
+        "only with contact.rolling = \"epsd\" (the rolling sub-model that uses it)";
+    for (const char* array : {"material", "material_pair"})
+      for (const Table& t : root.table_array(array))
+        if (t.number_or(key, kNonNegative, 0.0) > 0.0) t.fail(key, "0 or absent, " + why);
+    return;
+  }
+  const auto contact = root.table("contact");
+  if (cfg.sim.solver == "cd")  // rigid grains: the couple has no spring, hence no damping
+    contact->reject(
+        "rolling_damping",
+        "with solver = \"cd\" (the rolling couple of rigid grains has no spring to damp)");
+  if (cfg.contact.cohesion != "none")
+    contact->fail("rolling", "\"none\" with cohesion = \"capillary\" (not combined yet)");
+}
+
 }  // namespace
 
 ScenarioConfig parse_scenario(const std::string& text, const std::string& path) {
@@ -674,6 +703,7 @@ ScenarioConfig parse_scenario(const std::string& text, const std::string& path) 
                                 "\"none\" here, or a 3D DEM scenario (dimension = 3, solver = "
                                 "\"dem\"): the bridge law is for spheres, and contact dynamics "
                                 "has no cohesion yet");
+  check_rolling(root, cfg);
   cfg.output = parse_output(root);
   return cfg;
 }

@@ -83,6 +83,10 @@ std::uint64_t state_hash(const World<D>& w) {
     h.value(w.liquid.total);
     h.value(w.liquid.lost);
   }
+  if (nl.rolling) {  // only with rolling resistance: other runs hash as they always did
+    hash_dense(h, nl.pairs.roll);
+    hash_dense(h, nl.wall_pairs.roll);
+  }
   hash_dense(h, nl.x_ref);
   hash_dense(h, nl.wall_ref);
   h.value(w.time);
