@@ -137,7 +137,7 @@ def draw_profiles(ax, out, cases, summary):
     ax.invert_yaxis()
     ax.set_xlabel("side-wall normal stress (Pa)")
     ax.set_ylabel("depth below the free surface (m)")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=6.5, loc="upper right")
 
 
 def main(out, cases):

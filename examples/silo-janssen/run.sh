@@ -14,7 +14,7 @@
 #                            profile and the fitted Janssen curve (the paper's Figure 7)
 # Usage: examples/silo-janssen/run.sh [quick | full | large | CASE...]
 #   quick  2D contact dynamics, with rolling resistance (cd-2d-rolling: the figure's network)
-#          and with freely rotating disks (cd-2d) (the README's main job, ~3 minutes)
+#          and with freely rotating disks (cd-2d) (the README's main job, ~4 minutes)
 #   full   quick's cases, the same two by DEM (dem-2d-rolling, dem-2d: Hertz-Mindlin, stiff
 #          grains) and 3D CD (cd-3d, cylindrical silo; the 3D run alone takes 15-25 minutes)
 #   large  the 3,000-grain 2D DEM variant of docs/examples.md (~10 minutes)

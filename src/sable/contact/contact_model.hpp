@@ -89,6 +89,10 @@ struct HertzNormal {
     const double gn = -c * p.beta * std::sqrt(2.0 * p.y_star * sqrt_rd * m_eff);
     return {4.0 / 3.0 * p.y_star * sqrt_rd, gn, 8.0 * p.g_star * sqrt_rd, gn * p.st_over_sn_sqrt};
   }
+  // coeffs().kn alone (the rolling sub-model's k_n), the same bits.
+  static double stiffness(const PairParams& p, const ContactModel&, double delta, double r_eff) {
+    return 4.0 / 3.0 * p.y_star * std::sqrt(r_eff * delta);
+  }
 };
 
 struct LinearNormal {
@@ -97,6 +101,7 @@ struct LinearNormal {
     return {m.kn, -2.0 * p.beta * std::sqrt(m.kn * m_eff), m.kt,
             -2.0 * p.beta * std::sqrt(m.kt * m_eff)};
   }
+  static double stiffness(const PairParams&, const ContactModel& m, double, double) { return m.kn; }
 };
 
 template <int D>

@@ -56,9 +56,9 @@ inline double inverse_inertia_at_contact(double inv_inertia, double mass, double
 
 // The couple on grain i; updates the spring. n: unit normal (j towards i); w_rel = w_i - w_j.
 template <int D>
-typename Space<D>::Rot rolling_moment(const typename Space<D>::Vec& n,
-                                      const typename Space<D>::Rot& w_rel, const RollingCoeffs& c,
-                                      double dt, typename Space<D>::Rot& theta) {
+[[gnu::always_inline]] inline typename Space<D>::Rot rolling_moment(
+    const typename Space<D>::Vec& n, const typename Space<D>::Rot& w_rel, const RollingCoeffs& c,
+    double dt, typename Space<D>::Rot& theta) {
   using Rot = typename Space<D>::Rot;
   Rot w_roll = w_rel;
   if constexpr (D == 3) {

@@ -48,6 +48,7 @@ class DemSolver final : public Solver {
   std::vector<double> pair_delta_, wall_delta_;  // 0 apart, > 0 overlap, -1 unknown
   // Rolling resistance only: each contact's couple on its first grain (near entries and walls).
   std::vector<typename Space<D>::Rot> pair_roll_, wall_roll_;
+  std::vector<double> roll_inv_ic_;  // per grain: 1 / (I + m R^2)
   // The dry pass's blocks of grains, one per thread, and the grains it leaves to the gather.
   std::vector<std::uint32_t> grain_block_;
   std::vector<std::uint8_t> gathered_;

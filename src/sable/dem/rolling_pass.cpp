@@ -24,6 +24,8 @@ template <int D>
 template <class Normal>
 void DemSolver<D>::rolling_torques() {
   using S = Space<D>;
+  using Vec = typename S::Vec;
+  using Rot = typename S::Rot;
   const auto& p = w_.particles;
   auto& nl = w_.neighbors;
   auto& pl = nl.pairs;
@@ -33,39 +35,46 @@ void DemSolver<D>::rolling_torques() {
   if (wl.roll.size() != wl.size()) wl.roll.assign(wl.size(), S::zero_rot());
   pair_roll_.resize(pl.size(), S::zero_rot());
   wall_roll_.resize(wl.size(), S::zero_rot());
+  // Each grain's 1 / (I + m R^2), once per step rather than twice per contact.
+  const auto n_grains = static_cast<std::ptrdiff_t>(p.size());
+  roll_inv_ic_.resize(p.size());
+  double* const inv_ic = roll_inv_ic_.data();
+#pragma omp parallel for schedule(static) if (n_grains >= kMinParallelRolling)
+  for (std::ptrdiff_t g = 0; g < n_grains; ++g)
+    inv_ic[g] = inverse_inertia_at_contact(p.inv_inertia[g], p.mass[g], p.radius[g]);
+  // Raw pointers and plain copies, as in the force pass (stores through Eigen may alias).
+  const Vec* const x = p.x.data();
+  const Rot* const w = p.w.data();
+  const double* const radius = p.radius.data();
+  const MaterialIndex* const material = p.material.data();
+  const std::uint32_t *const pi = pl.i.data(), *const pj = pl.j.data();
+  const Vec* const force = pl.force.data();
+  const double* const delta = pair_delta_.data();
+  Rot* const theta = pl.roll.data();
+  Rot* const out = pair_roll_.data();
   const PairTableView materials = w_.materials.pair_view();
   const ContactModel model = w_.model;
   const double dt = w_.dt;
   const double eta = model.rolling_damping;
-  auto inv_ic = [&](std::uint32_t g) {
-    return inverse_inertia_at_contact(p.inv_inertia[g], p.mass[g], p.radius[g]);
-  };
-  // One contact: its couple on the first grain, or zero (and a reset spring) if it is apart.
-  auto couple = [&](const typename S::Vec& n, double delta, const typename S::Vec& f,
-                    const PairParams& pp, double r_eff, double m_eff, double inv_ic_i,
-                    double inv_ic_j, const typename S::Rot& w_rel, typename S::Rot& theta) {
-    if (delta <= 0.0 || pp.rolling_friction == 0.0) {
-      theta = S::zero_rot();
-      return S::zero_rot();
-    }
-    const double k_n = Normal::coeffs(pp, model, delta, r_eff, m_eff).kn;
-    const RollingCoeffs c =
-        rolling_coeffs(pp.rolling_friction, eta, r_eff, k_n, f.dot(n), inv_ic_i, inv_ic_j);
-    return rolling_moment<D>(n, w_rel, c, dt, theta);
-  };
   const std::uint32_t* const near = near_.index.data();
   const auto n_near = static_cast<std::ptrdiff_t>(near_.index.size());
 #pragma omp parallel for schedule(static) if (n_near >= kMinParallelRolling)
   for (std::ptrdiff_t m = 0; m < n_near; ++m) {
     const std::size_t k = near[m];
-    const std::uint32_t i = pl.i[k], j = pl.j[k];
-    const typename S::Vec d = p.x[i] - p.x[j];
-    const double dist = d.norm();
-    const double rsum = p.radius[i] + p.radius[j];
-    pair_roll_[k] = couple(d * (1.0 / dist), pair_delta_[k], pl.force[k],
-                           materials(p.material[i], p.material[j]),
-                           p.radius[i] * p.radius[j] / rsum, 1.0 / (p.inv_mass[i] + p.inv_mass[j]),
-                           inv_ic(i), inv_ic(j), p.w[i] - p.w[j], pl.roll[k]);
+    const std::uint32_t i = pi[k], j = pj[k];
+    const PairParams& pp = materials(material[i], material[j]);
+    if (delta[k] <= 0.0 || pp.rolling_friction == 0.0) {  // apart (or no resistance)
+      theta[k] = S::zero_rot();
+      out[k] = S::zero_rot();
+      continue;
+    }
+    const Vec d = x[i] - x[j];
+    const Vec n = d * (1.0 / d.norm());
+    const double r_eff = radius[i] * radius[j] / (radius[i] + radius[j]);
+    const RollingCoeffs c = rolling_coeffs(pp.rolling_friction, eta, r_eff,
+                                           Normal::stiffness(pp, model, delta[k], r_eff),
+                                           force[k].dot(n), inv_ic[i], inv_ic[j]);
+    out[k] = rolling_moment<D>(n, Rot(w[i] - w[j]), c, dt, theta[k]);
   }
   const auto n_walls = static_cast<std::ptrdiff_t>(wl.size());
 #pragma omp parallel for schedule(static) if (n_walls >= kMinParallelRolling)
@@ -73,10 +82,20 @@ void DemSolver<D>::rolling_torques() {
     const auto k = static_cast<std::size_t>(kk);
     const std::uint32_t i = wl.i[k];
     const Wall<D>& wall = w_.walls[wl.wall[k]];
-    typename S::Vec n;
-    wall.distance(p.x[i], n);
-    wall_roll_[k] = couple(n, wall_delta_[k], wl.force[k], materials(p.material[i], wall.material),
-                           p.radius[i], p.mass[i], inv_ic(i), 0.0, p.w[i], wl.roll[k]);
+    const PairParams& pp = materials(material[i], wall.material);
+    const double dk = wall_delta_[k];
+    if (dk <= 0.0 || pp.rolling_friction == 0.0) {
+      wl.roll[k] = S::zero_rot();
+      wall_roll_[k] = S::zero_rot();
+      continue;
+    }
+    Vec n;
+    wall.distance(x[i], n);
+    const double r = radius[i];
+    const RollingCoeffs c =
+        rolling_coeffs(pp.rolling_friction, eta, r, Normal::stiffness(pp, model, dk, r),
+                       wl.force[k].dot(n), inv_ic[i], 0.0);
+    wall_roll_[k] = rolling_moment<D>(n, w[i], c, dt, wl.roll[k]);
   }
   add_rolling_torques();
 }
@@ -86,19 +105,25 @@ void DemSolver<D>::rolling_torques() {
 template <int D>
 void DemSolver<D>::add_rolling_torques() {
   using S = Space<D>;
+  using Rot = typename S::Rot;
   auto& p = w_.particles;
-  const auto& nl = w_.neighbors;
   const auto n = static_cast<std::ptrdiff_t>(p.size());
+  Rot* const torque = p.t.data();
+  const Rot *const pair_roll = pair_roll_.data(), *const wall_roll = wall_roll_.data();
+  const std::uint32_t* const near = near_.index.data();
+  const std::uint32_t* const first_begin = near_.first_begin.data();
+  const std::uint32_t* const second_begin = near_.second_begin.data();
+  const std::uint32_t* const second_pairs = near_.second_pairs.data();
+  const std::uint32_t* const wall_begin = w_.neighbors.wall_begin.data();
 #pragma omp parallel for schedule(static) if (n >= kMinParallelRolling)
   for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
     const auto i = static_cast<std::size_t>(ii);
-    typename S::Rot t = S::zero_rot();
-    for (std::uint32_t s = near_.second_begin[i]; s < near_.second_begin[i + 1]; ++s)
-      t -= pair_roll_[near_.second_pairs[s]];
-    for (std::uint32_t m = near_.first_begin[i]; m < near_.first_begin[i + 1]; ++m)
-      t += pair_roll_[near_.index[m]];
-    for (std::uint32_t k = nl.wall_begin[i]; k < nl.wall_begin[i + 1]; ++k) t += wall_roll_[k];
-    p.t[i] += t;
+    Rot t = S::zero_rot();
+    for (std::uint32_t s = second_begin[i]; s < second_begin[i + 1]; ++s)
+      t -= pair_roll[second_pairs[s]];
+    for (std::uint32_t m = first_begin[i]; m < first_begin[i + 1]; ++m) t += pair_roll[near[m]];
+    for (std::uint32_t k = wall_begin[i]; k < wall_begin[i + 1]; ++k) t += wall_roll[k];
+    torque[i] += t;
   }
 }
 
