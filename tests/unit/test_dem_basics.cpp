@@ -147,9 +147,9 @@ TEST(DemBasics, ThreadCountDoesNotChangeABit) {
   for (int threads : {2, 3, 4}) EXPECT_EQ(run(threads), one) << threads << " threads";
 }
 
-// The rolling-resistance pass (dem/rolling_pass.cpp) keeps the thread count out of the bits:
-// each contact's couple goes to its own slot and the couples are added per grain in the
-// accumulation's fixed order. The bed of ThreadCountDoesNotChangeABit with rolling resistance
+// Rolling resistance (in the pair pass, dem/dem_solver.cpp) keeps the thread count out of the
+// bits: each contact's couple is added to its grains right after its force's torque, in the
+// fixed per-grain order of the pass and of the gather. The bed of ThreadCountDoesNotChangeABit with rolling resistance
 // (mu_r = 0.1 on the material, the lists carrying springs from their first build): 1, 2, 3
 // and 4 threads give the same state hash, which covers the springs, and the same torques,
 // spins and springs, exactly. The same run without rolling resistance ends with other spins

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "sable/contact/liquid.hpp"
+#include "sable/core/error.hpp"
 #include "sable/world/guards.hpp"
 
 namespace sable {
@@ -42,6 +43,8 @@ template <int D>
 void DemSolver<D>::initialize() {
   // The lists carry rolling springs exactly when the law has rolling resistance.
   w_.neighbors.rolling = w_.model.rolling != RollingModel::kNone;
+  if (w_.neighbors.rolling && w_.neighbors.bridges)  // the scenario parser refuses it too
+    throw InputError("rolling resistance with capillary bridges is not supported yet");
   w_.neighbors.build(w_.particles, w_.walls);
   compute_forces();
 }
@@ -140,19 +143,25 @@ void DemSolver<D>::compute_forces() {
     wall_moment_.assign(nl.wall_pairs.size(), Space<D>::zero_rot());
     wall_delta_.assign(nl.wall_pairs.size(), -1.0);
     pair_event_.assign(nl.bridges ? nl.pairs.size() : 0, 0);
+    pair_roll_.assign(nl.rolling ? nl.pairs.size() : 0, Space<D>::zero_rot());
+    wall_roll_.assign(nl.rolling ? nl.wall_pairs.size() : 0, Space<D>::zero_rot());
     scratch_build_ = nl.builds;
   }
   diag_ = StepDiagnostics{};
   const bool wet = nl.bridges && nl.pairs.bridge.size() == nl.pairs.size();
+  const bool rolling = w_.model.rolling != RollingModel::kNone;
+  if (rolling) prepare_rolling(wet);
   {
     auto scope = timers_.time(Phase::kNeighbors);
     if (near_.stale(w_.particles, nl, wet)) {
       // An entry left out is apart: clear it as the force pass would have.
-      const bool rolling = nl.pairs.roll.size() == nl.pairs.size();
       near_.remake(w_.particles, nl, w_.dt, wet, [&](std::size_t k) {
         forget_if_ended(nl.pairs.shear.data(), nl.pairs.force.data(), pair_moment_.data(),
                         pair_delta_.data(), k, Space<D>::zero_rot());
-        if (rolling) nl.pairs.roll[k] = Space<D>::zero_rot();
+        if (rolling) {
+          nl.pairs.roll[k] = Space<D>::zero_rot();
+          pair_roll_[k] = Space<D>::zero_rot();
+        }
       });
     }
     diag_.near_remakes = near_.remakes;
@@ -162,8 +171,10 @@ void DemSolver<D>::compute_forces() {
     auto scope = timers_.time(Phase::kForces);
     if (wet)
       hertz ? wet_pair_forces<HertzNormal>() : wet_pair_forces<LinearNormal>();
+    else if (rolling)
+      hertz ? pair_forces<HertzNormal, true>() : pair_forces<LinearNormal, true>();
     else
-      hertz ? pair_forces<HertzNormal>() : pair_forces<LinearNormal>();
+      hertz ? pair_forces<HertzNormal, false>() : pair_forces<LinearNormal, false>();
   }
   if (wet) settle_liquid();
   {
@@ -171,10 +182,28 @@ void DemSolver<D>::compute_forces() {
     hertz ? wall_forces<HertzNormal>() : wall_forces<LinearNormal>();
     accumulate(wet);
   }
-  if (w_.model.rolling != RollingModel::kNone) {
-    auto scope = timers_.time(Phase::kForces);
-    hertz ? rolling_torques<HertzNormal>() : rolling_torques<LinearNormal>();
-  }
+}
+
+// Before a pass with rolling resistance: springs for every list entry (a snapshot written
+// without them starts them at zero) and each grain's 1 / (I + m R^2), once per step rather
+// than twice per contact.
+template <int D>
+void DemSolver<D>::prepare_rolling(bool wet) {
+  auto& nl = w_.neighbors;
+  const auto& p = w_.particles;
+  if (wet) throw InputError("rolling resistance with capillary bridges is not supported yet");
+  if (nl.pairs.roll.size() != nl.pairs.size())
+    nl.pairs.roll.assign(nl.pairs.size(), Space<D>::zero_rot());
+  if (nl.wall_pairs.roll.size() != nl.wall_pairs.size())
+    nl.wall_pairs.roll.assign(nl.wall_pairs.size(), Space<D>::zero_rot());
+  pair_roll_.resize(nl.pairs.size(), Space<D>::zero_rot());
+  wall_roll_.resize(nl.wall_pairs.size(), Space<D>::zero_rot());
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+  roll_inv_ic_.resize(p.size());
+  double* const inv_ic = roll_inv_ic_.data();
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+  for (std::ptrdiff_t g = 0; g < n; ++g)
+    inv_ic[g] = inverse_inertia_at_contact(p.inv_inertia[g], p.mass[g], p.radius[g]);
 }
 
 // What the grain-pair passes read and write, as raw pointers and plain copies taken once per
@@ -204,9 +233,38 @@ struct DemSolver<D>::PairPass {
   PairTableView materials;
   ContactModel model;
   double dt;
+  // Rolling resistance only (pair_forces<Normal, true>): the springs, each contact's couple on
+  // its first grain (for the gather), and each grain's 1 / (I + m R^2).
+  Rot *roll, *couple;
+  const double* inv_ic;
 
+  template <bool Roll = false>
   void forget(std::size_t k) const {
+    if (delta[k] == 0.0) return;  // apart already: everything is zero
+    if constexpr (Roll) {
+      roll[k] = S::zero_rot();
+      couple[k] = S::zero_rot();
+    }
     forget_if_ended(shear, force, moment, delta, k, S::zero_rot());
+  }
+
+  // The rolling couple of touching pair k on grain a (contact/rolling.hpp), from the force
+  // pass's geometry and force; stored for the gather.
+  template <class Normal>
+  [[gnu::always_inline]] Rot rolling_couple(std::size_t k, std::uint32_t a, std::uint32_t b,
+                                            const ContactGeometry<D>& g, const PairParams& pp,
+                                            const Vec& f) const {
+    Rot m = S::zero_rot();
+    if (pp.rolling_friction == 0.0) {
+      roll[k] = m;
+    } else {
+      const RollingCoeffs c = rolling_coeffs(pp.rolling_friction, model.rolling_damping, g.r_eff,
+                                             Normal::stiffness(pp, model, g.delta, g.r_eff),
+                                             f.dot(g.n), inv_ic[a], inv_ic[b]);
+      m = rolling_moment<D>(g.n, Rot(w[a] - w[b]), c, dt, roll[k]);
+    }
+    couple[k] = m;
+    return m;
   }
 
   // Grains [g0, g1) are this thread's: zero their sums, and flag those that are the second
@@ -224,7 +282,7 @@ struct DemSolver<D>::PairPass {
   // `cohesion` (<= 0) added to its normal force, stored in the pair's slots (n x F only where
   // accumulate() will read it: `How`), and summed per grain as `How` says; raises max_ratio
   // to the overlap over the smaller radius. Shared by the dry and the wet passes.
-  template <class Normal, Sum How = Sum::kGather>
+  template <class Normal, Sum How = Sum::kGather, bool Roll = false>
   [[gnu::always_inline]] void touch(std::size_t k, const Vec& d, double dist2, double rsum,
                                     double cohesion, double& max_ratio) const {
     const std::uint32_t a = i[k], b = j[k];
@@ -244,20 +302,26 @@ struct DemSolver<D>::PairPass {
     force[k] = f;
     delta[k] = g.delta;
     const Rot m = S::moment(g.n, f);
+    Rot c = S::zero_rot();  // the rolling couple on a (b gets -c)
+    if constexpr (Roll) c = rolling_couple<Normal>(k, a, b, g, pp, f);
     if constexpr (How == Sum::kScatter) {
       // Term for term as accumulate() would add them (see there for the torques).
       grain_force[a] += f;
       grain_torque[a] -= lever_i * m;
+      if constexpr (Roll) grain_torque[a] += c;
       grain_force[b] -= f;
       grain_torque[b] -= lever_j * m;
+      if constexpr (Roll) grain_torque[b] -= c;
     } else if constexpr (How == Sum::kScatterChecked) {
       if (!gathered[a]) {
         grain_force[a] += f;
         grain_torque[a] -= lever_i * m;
+        if constexpr (Roll) grain_torque[a] += c;
       }
       if (!gathered[b]) {
         grain_force[b] -= f;
         grain_torque[b] -= lever_j * m;
+        if constexpr (Roll) grain_torque[b] -= c;
       }
       if (gathered[a] | gathered[b]) moment[k] = m;
     } else {
@@ -268,7 +332,7 @@ struct DemSolver<D>::PairPass {
   }
 
   // The dry pass over near-list entries [m0, m1) (see pair_forces).
-  template <class Normal, Sum How>
+  template <class Normal, Sum How, bool Roll>
   void entries(const std::uint32_t* near, std::uint32_t m0, std::uint32_t m1, double& max_ratio,
                std::size_t& touching) const {
     for (std::uint32_t m = m0; m < m1; ++m) {
@@ -277,10 +341,10 @@ struct DemSolver<D>::PairPass {
       const double rsum = radius[i[k]] + radius[j[k]];
       const double dist2 = d.squaredNorm();
       if (dist2 >= rsum * rsum) {
-        forget(k);
+        forget<Roll>(k);
         continue;
       }
-      touch<Normal, How>(k, d, dist2, rsum, 0.0, max_ratio);
+      touch<Normal, How, Roll>(k, d, dist2, rsum, 0.0, max_ratio);
       ++touching;
     }
   }
@@ -309,7 +373,10 @@ typename DemSolver<D>::PairPass DemSolver<D>::pair_pass() {
           near_.second_pairs.data(),
           w_.materials.pair_view(),
           w_.model,
-          w_.dt};
+          w_.dt,
+          pl.roll.data(),
+          pair_roll_.data(),
+          roll_inv_ic_.data()};
 }
 
 // The dry pass. Each thread takes a contiguous block of grains, about an equal share of the
@@ -321,7 +388,7 @@ typename DemSolver<D>::PairPass DemSolver<D>::pair_pass() {
 // none on one thread, a few % on two) are left to accumulate(). Gathering every grain's sum
 // afterwards cost 15 % of the step (perf, docs/BENCHMARKS.md).
 template <int D>
-template <class Normal>
+template <class Normal, bool Roll>
 void DemSolver<D>::pair_forces() {
   gathered_.resize(w_.particles.size());
   PairPass pass = pair_pass();
@@ -343,11 +410,11 @@ void DemSolver<D>::pair_forces() {
 #pragma omp barrier
     // One thread: no grain is gathered, and the flags need not be read.
     if (threads == 1)
-      pass.template entries<Normal, Sum::kScatter>(near, first_begin[g0], first_begin[g1],
-                                                   max_ratio, touching);
+      pass.template entries<Normal, Sum::kScatter, Roll>(near, first_begin[g0], first_begin[g1],
+                                                         max_ratio, touching);
     else
-      pass.template entries<Normal, Sum::kScatterChecked>(near, first_begin[g0], first_begin[g1],
-                                                          max_ratio, touching);
+      pass.template entries<Normal, Sum::kScatterChecked, Roll>(
+          near, first_begin[g0], first_begin[g1], max_ratio, touching);
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
   diag_.touching += touching;
@@ -468,6 +535,7 @@ void DemSolver<D>::wall_forces() {
   const auto& p = w_.particles;
   auto& wl = w_.neighbors.wall_pairs;
   const double dt = w_.dt;
+  const bool rolling = w_.model.rolling != RollingModel::kNone;
   const auto n_pairs = static_cast<std::ptrdiff_t>(wl.size());
   double max_ratio = 0.0;
   std::size_t touching = 0;
@@ -481,6 +549,10 @@ void DemSolver<D>::wall_forces() {
     const double dist = wall.distance(p.x[i], g.n);
     g.delta = p.radius[i] - dist;
     if (g.delta <= 0.0) {
+      if (rolling && wall_delta_[k] != 0.0) {
+        wl.roll[k] = S::zero_rot();
+        wall_roll_[k] = S::zero_rot();
+      }
       forget_if_ended(wl.shear.data(), wl.force.data(), wall_moment_.data(), wall_delta_.data(), k,
                       S::zero_rot());
       continue;
@@ -494,6 +566,18 @@ void DemSolver<D>::wall_forces() {
     wl.force[k] = f;
     wall_moment_[k] = S::moment(g.n, f);
     wall_delta_[k] = g.delta;
+    if (rolling) {  // the wall does not turn: the relative spin is the grain's
+      typename S::Rot c = S::zero_rot();
+      if (pp.rolling_friction != 0.0) {
+        const RollingCoeffs rc = rolling_coeffs(
+            pp.rolling_friction, w_.model.rolling_damping, g.r_eff,
+            Normal::stiffness(pp, w_.model, g.delta, g.r_eff), f.dot(g.n), roll_inv_ic_[i], 0.0);
+        c = rolling_moment<D>(g.n, p.w[i], rc, dt, wl.roll[k]);
+      } else {
+        wl.roll[k] = c;
+      }
+      wall_roll_[k] = c;
+    }
     max_ratio = std::max(max_ratio, g.delta / p.radius[i]);
     ++touching;
   }
@@ -530,6 +614,11 @@ void DemSolver<D>::accumulate(bool all) {
   const typename S::Rot* const wall_moment = wall_moment_.data();
   const double* const wall_delta = wall_delta_.data();
   const std::uint8_t* const gathered = gathered_.data();
+  // Rolling resistance: each contact's couple follows its force's torque (+ on the first
+  // grain, - on the second), as the dry pass adds them.
+  const bool rolling = w_.model.rolling != RollingModel::kNone;
+  const typename S::Rot* const pair_roll = pair_roll_.data();
+  const typename S::Rot* const wall_roll = wall_roll_.data();
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
     const auto i = static_cast<std::size_t>(ii);
@@ -542,15 +631,18 @@ void DemSolver<D>::accumulate(bool all) {
       const std::uint32_t k = second_pairs[s];
       f -= pair_force[k];
       t -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
+      if (rolling) t -= pair_roll[k];
     }
     for (std::uint32_t m = first_begin[i]; full && m < first_begin[i + 1]; ++m) {
       const std::uint32_t k = near[m];
       f += pair_force[k];
       t -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
+      if (rolling) t += pair_roll[k];
     }
     for (std::uint32_t k = wall_begin[i]; k < wall_begin[i + 1]; ++k) {
       f += wall_force[k];
       t -= (r - 0.5 * wall_delta[k]) * wall_moment[k];
+      if (rolling) t += wall_roll[k];
     }
     force[i] = f;
     torque[i] = t;

@@ -23,7 +23,7 @@ class DemSolver final : public Solver {
  private:
   void kick(double h);
   void kick_drift(double h, double h_drift);
-  template <class Normal>
+  template <class Normal, bool Roll>
   void pair_forces();
   void split_grains(int threads);
   template <class Normal>
@@ -33,9 +33,7 @@ class DemSolver final : public Solver {
   template <class Normal>
   void wall_forces();
   void accumulate(bool all);
-  template <class Normal>
-  void rolling_torques();  // dem/rolling_pass.cpp
-  void add_rolling_torques();
+  void prepare_rolling(bool wet);
   void settle_liquid();
 
   World<D>& w_;
@@ -46,9 +44,10 @@ class DemSolver final : public Solver {
   // runs those of gathered grains): elsewhere it may be stale. Apart entries hold zeros.
   std::vector<typename Space<D>::Rot> pair_moment_, wall_moment_;
   std::vector<double> pair_delta_, wall_delta_;  // 0 apart, > 0 overlap, -1 unknown
-  // Rolling resistance only: each contact's couple on its first grain (near entries and walls).
+  // Rolling resistance only: each contact's couple on its first grain (read by accumulate()
+  // like n x F; apart entries hold zeros), and per grain 1 / (I + m R^2).
   std::vector<typename Space<D>::Rot> pair_roll_, wall_roll_;
-  std::vector<double> roll_inv_ic_;  // per grain: 1 / (I + m R^2)
+  std::vector<double> roll_inv_ic_;
   // The dry pass's blocks of grains, one per thread, and the grains it leaves to the gather.
   std::vector<std::uint32_t> grain_block_;
   std::vector<std::uint8_t> gathered_;
