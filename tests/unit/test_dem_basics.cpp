@@ -108,6 +108,38 @@ TEST(DemBasics, OrientationTrackingChangesNothingElse) {
   }
 }
 
+// The bed of the thread-count tests, in world `w` (its material and contact law): 16 x 16 x 12
+// grains on a lattice with 2 % overlaps, on a floor, with random velocities and spins from a
+// fixed LCG (the same draws for every run). 50 steps on `threads` threads; returns the
+// solver's touching count of the last step.
+std::size_t run_lattice_bed(sable::World<3>& w, int threads) {
+  const double r = 0.2e-3, a = 1.96 * r;
+  std::uint64_t seed = 12345;
+  auto jitter = [&seed]() {
+    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(seed >> 11) * 0x1.0p-53 - 0.5;
+  };
+  for (int z = 0; z < 12; ++z)
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) {
+        w.particles.add({a * x - 0.004, a * y - 0.004, a * z - 0.004 + r}, r, 2500.0, 0, 1.0);
+        w.particles.v.back() = 0.01 * Eigen::Vector3d(jitter(), jitter(), jitter());
+        w.particles.w.back() = 10.0 * Eigen::Vector3d(jitter(), jitter(), jitter());
+      }
+  w.gravity = {0, 0, -9.81};
+  sable::Wall<3> floor;
+  floor.point = Eigen::Vector3d(0, 0, -0.004);
+  floor.normal = Eigen::Vector3d(0, 0, 1);
+  w.walls.push_back(floor);
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(threads);
+  sable::DemSolver<3> s(w);
+  s.initialize();
+  for (int k = 0; k < 50; ++k) s.step();
+  omp_set_num_threads(before);
+  return s.diagnostics().touching;
+}
+
 // The thread count does not change a bit, in a bed where every grain touches its lattice
 // neighbours from the first step (~3 contacts per grain, thousands in all, so the force pass
 // really splits): each thread takes a block of grains and adds forces as it goes; the grains
@@ -116,31 +148,7 @@ TEST(DemBasics, OrientationTrackingChangesNothingElse) {
 TEST(DemBasics, ThreadCountDoesNotChangeABit) {
   auto run = [](int threads) {
     auto w = world_with_material(0.5, 0.5);
-    const double r = 0.2e-3, a = 1.96 * r;  // 2 % overlaps
-    std::uint64_t seed = 12345;
-    auto jitter = [&seed]() {  // a fixed LCG: the same draws for every run
-      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
-      return static_cast<double>(seed >> 11) * 0x1.0p-53 - 0.5;
-    };
-    for (int z = 0; z < 12; ++z)
-      for (int y = 0; y < 16; ++y)
-        for (int x = 0; x < 16; ++x) {
-          w.particles.add({a * x - 0.004, a * y - 0.004, a * z - 0.004 + r}, r, 2500.0, 0, 1.0);
-          w.particles.v.back() = 0.01 * Eigen::Vector3d(jitter(), jitter(), jitter());
-          w.particles.w.back() = 10.0 * Eigen::Vector3d(jitter(), jitter(), jitter());
-        }
-    w.gravity = {0, 0, -9.81};
-    sable::Wall<3> floor;
-    floor.point = Eigen::Vector3d(0, 0, -0.004);
-    floor.normal = Eigen::Vector3d(0, 0, 1);
-    w.walls.push_back(floor);
-    const int before = omp_get_max_threads();
-    omp_set_num_threads(threads);
-    sable::DemSolver<3> s(w);
-    s.initialize();
-    for (int k = 0; k < 50; ++k) s.step();
-    omp_set_num_threads(before);
-    EXPECT_GT(s.diagnostics().touching, 6000u);  // the pass runs in parallel above 2048
+    EXPECT_GT(run_lattice_bed(w, threads), 6000u);  // the pass runs in parallel above 2048
     return sable::state_hash(w);
   };
   const std::uint64_t one = run(1);
@@ -149,12 +157,12 @@ TEST(DemBasics, ThreadCountDoesNotChangeABit) {
 
 // Rolling resistance (in the pair pass, dem/dem_solver.cpp) keeps the thread count out of the
 // bits: each contact's couple is added to its grains right after its force's torque, in the
-// fixed per-grain order of the pass and of the gather. The bed of ThreadCountDoesNotChangeABit with rolling resistance
-// (mu_r = 0.1 on the material, the lists carrying springs from their first build): 1, 2, 3
-// and 4 threads give the same state hash, which covers the springs, and the same torques,
-// spins and springs, exactly. The same run without rolling resistance ends with other spins
-// (the pass really ran and did something): here the couples oppose the grains' random
-// relative spins, so the bed keeps less rotational energy than without them.
+// fixed per-grain order of the pass and of the gather. The bed of ThreadCountDoesNotChangeABit
+// with rolling resistance (mu_r = 0.1 on the material, the lists carrying springs from their
+// first build): 1, 2, 3 and 4 threads give the same state hash, which covers the springs, and
+// the same torques, spins and springs, exactly. The same run without rolling resistance ends
+// with other spins (the couples really acted): they oppose the grains' random relative spins,
+// so the bed keeps less rotational energy than without them.
 TEST(DemBasics, ThreadCountDoesNotChangeABitWithRollingResistance) {
   struct End {
     std::uint64_t hash;
@@ -168,35 +176,12 @@ TEST(DemBasics, ThreadCountDoesNotChangeABitWithRollingResistance) {
       w.model.rolling = sable::RollingModel::kEpsd;
       w.neighbors.rolling = true;
     }
-    const double r = 0.2e-3, a = 1.96 * r;  // 2 % overlaps
-    std::uint64_t seed = 12345;
-    auto jitter = [&seed]() {  // a fixed LCG: the same draws for every run
-      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
-      return static_cast<double>(seed >> 11) * 0x1.0p-53 - 0.5;
-    };
-    for (int z = 0; z < 12; ++z)
-      for (int y = 0; y < 16; ++y)
-        for (int x = 0; x < 16; ++x) {
-          w.particles.add({a * x - 0.004, a * y - 0.004, a * z - 0.004 + r}, r, 2500.0, 0, 1.0);
-          w.particles.v.back() = 0.01 * Eigen::Vector3d(jitter(), jitter(), jitter());
-          w.particles.w.back() = 10.0 * Eigen::Vector3d(jitter(), jitter(), jitter());
-        }
-    w.gravity = {0, 0, -9.81};
-    sable::Wall<3> floor;
-    floor.point = Eigen::Vector3d(0, 0, -0.004);
-    floor.normal = Eigen::Vector3d(0, 0, 1);
-    w.walls.push_back(floor);
-    const int before = omp_get_max_threads();
-    omp_set_num_threads(threads);
-    sable::DemSolver<3> s(w);
-    s.initialize();
-    for (int k = 0; k < 50; ++k) s.step();
-    omp_set_num_threads(before);
+    const std::size_t touching = run_lattice_bed(w, threads);
     End end{sable::state_hash(w), w.particles.w, w.particles.t, w.neighbors.pairs.roll,
             w.neighbors.wall_pairs.roll};
     for (std::size_t k = 0; k < w.particles.size(); ++k)
       end.rotational_energy += 0.5 * w.particles.w[k].squaredNorm() / w.particles.inv_inertia[k];
-    end.touching = s.diagnostics().touching;
+    end.touching = touching;
     return end;
   };
   const End one = run(1, true);

@@ -43,6 +43,7 @@
 #include <vector>
 
 #include "impact_helpers.hpp"
+#include "rolling_helpers.hpp"
 #include "sable/cd/cd_solver.hpp"
 
 namespace sable::validation {
@@ -53,19 +54,13 @@ constexpr double kRadius = 0.01;
 constexpr double kThickness = 2.0 * kRadius;  // 2D only
 constexpr double kDensity = 2500.0;
 constexpr double kMu = 0.5;
-constexpr double kMuR = 0.1;
+constexpr double kMuR = kRollingMuR;
 constexpr double kDt = 1e-4;
 constexpr double kTol = 1e-12;  // NLGS natural-map tolerance
 // The end-of-step velocity error each step may leave: kTol times the residual's scale g h.
 constexpr double kStepVelocityError = kTol * kG * kDt;
 
-struct Setup {
-  double tan_alpha = 0.0;
-  double mu_r_grain = kMuR;  // the plane always has kMuR; the pair takes the smaller
-  double v0 = 0.0;           // launch speed along +x, with the rolling spin v0 / R
-  double duration = 0.5;
-  RollingModel rolling = RollingModel::kEpsd;
-};
+using Setup = RollingSetup;
 
 // The grain's motion along the slope (+x), after every step.
 struct Trace {
@@ -99,25 +94,13 @@ World<D> make_world(const Setup& s) {
   const double alpha = std::atan(s.tan_alpha);
   World<D> w;
   w.model.rolling = s.rolling;
-  Material grain = make_material("grain", kDensity, 0.0, 0.0, 0.0, kMu);
-  grain.rolling_friction = s.mu_r_grain;
-  Material plane = make_material("plane", 1.0, 0.0, 0.0, 0.0, kMu, /*rigid=*/true);
-  plane.rolling_friction = kMuR;
-  const MaterialIndex mi = w.materials.add(grain);
-  const MaterialIndex wi = w.materials.add(plane);
-  w.materials.finalize();
-  Vec up = Vec::Zero(), along = Vec::Zero();
-  up[D - 1] = 1.0;
-  along[0] = 1.0;
-  w.walls.push_back(make_plane<D>(Vec::Zero(), up, wi));
-  w.gravity = kG * (std::sin(alpha) * along - std::cos(alpha) * up);
+  const MaterialIndex mi = add_tilted_plane(w, make_material("grain", kDensity, 0.0, 0.0, 0.0, kMu),
+                                            s.mu_r_grain, alpha, kG);
   w.thickness = kThickness;
+  Vec up = Vec::Zero();
+  up[D - 1] = 1.0;
   w.particles.add(Vec(kRadius * up), kRadius, kDensity, mi, kThickness);  // touching
-  w.particles.v[0] = s.v0 * along;
-  if constexpr (D == 2)
-    w.particles.w[0] = -s.v0 / kRadius;
-  else
-    w.particles.w[0] = Vec(0.0, s.v0 / kRadius, 0.0);
+  roll_forward(w, 0, s.v0, kRadius);
   w.dt = kDt;
   set_domain(w, -0.5, 0.5, 0.2 * kRadius);
   return w;
@@ -258,13 +241,10 @@ double net_contact_torque_after_hold() {
 template <int D>
 void check_roll(double mu_r_grain) {
   const std::string dim = dim_name(D) + (mu_r_grain > 0.0 ? "_capped" : "_free");
-  Setup s;
-  s.tan_alpha = 2.0 * kMuR;
-  s.mu_r_grain = mu_r_grain;
+  const Setup s = rolling_case(mu_r_grain);
   const double alpha = std::atan(s.tan_alpha);
-  const double c = ParticleStore<D>::inertia_factor();
   const double mu_r_pair = std::min(mu_r_grain, kMuR);
-  const double a_expected = kG * (std::sin(alpha) - mu_r_pair * std::cos(alpha)) / (1.0 + c);
+  const double a_expected = capped_rolling_acceleration<D>(s, kG);
   const double n_expected = mass(D) * kG * std::cos(alpha);
   const Trace tr = simulate<D>(s);
   const double a = tr.v.back() / tr.t.back();

@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "impact_helpers.hpp"
+#include "rolling_helpers.hpp"
 
 namespace sable::validation {
 namespace {
@@ -49,7 +50,7 @@ constexpr double kDensity = 2500.0;
 constexpr double kYoung = 1.0e8;
 constexpr double kPoisson = 0.3;
 constexpr double kMu = 0.5;
-constexpr double kMuR = 0.1;
+constexpr double kMuR = kRollingMuR;
 constexpr double kEtaR = 0.3;
 constexpr double kYStar = kYoung / (1.0 - kPoisson * kPoisson);
 constexpr double kGStar = kYoung / (2.0 * (2.0 - kPoisson) * (1.0 + kPoisson));
@@ -79,13 +80,7 @@ struct RestingContact {
   double roll_limit() const { return kRadius * m_max / k_r; }
 };
 
-struct Setup {
-  double tan_alpha = 0.0;
-  double mu_r_grain = kMuR;  // the plane always has kMuR; the pair takes the smaller
-  double v0 = 0.0;           // launch speed along +x, with the rolling spin v0 / R
-  double duration = 0.5;
-  RollingModel rolling = RollingModel::kEpsd;
-};
+using Setup = RollingSetup;
 
 // The grain's motion along the slope (+x), every step.
 struct Trace {
@@ -101,29 +96,14 @@ World<D> make_world(const Setup& s) {
   w.model.tangential = TangentialModel::kHistory;
   w.model.rolling = s.rolling;
   w.model.rolling_damping = kEtaR;
-  Material grain = make_material("grain", kDensity, kYoung, kPoisson, 0.5, kMu);
-  grain.rolling_friction = s.mu_r_grain;
-  Material plane = make_material("plane", 1.0, 1.0, 0.0, 0.5, kMu, /*rigid=*/true);
-  plane.rolling_friction = kMuR;
-  const MaterialIndex mi = w.materials.add(grain);
-  const MaterialIndex wi = w.materials.add(plane);
-  w.materials.finalize();
-  Vec up = Vec::Zero(), along = Vec::Zero();
-  up[D - 1] = 1.0;
-  along[0] = 1.0;
-  w.walls.push_back(make_plane<D>(Vec::Zero(), up, wi));
-  w.gravity = kG * (std::sin(alpha) * along - std::cos(alpha) * up);
+  const MaterialIndex mi = add_tilted_plane(
+      w, make_material("grain", kDensity, kYoung, kPoisson, 0.5, kMu), s.mu_r_grain, alpha, kG);
   w.thickness = kThickness;
-
+  Vec up = Vec::Zero();
+  up[D - 1] = 1.0;
   const RestingContact<D> rc(std::cos(alpha));
   w.particles.add(Vec((kRadius - rc.delta) * up), kRadius, kDensity, mi, kThickness);
-  // Rolling forward along +x on a plane with normal `up`: the contact point's velocity
-  // v + omega x (-R up) vanishes for omega = -v/R in 2D (about z), +v/R about y in 3D.
-  w.particles.v[0] = s.v0 * along;
-  if constexpr (D == 2)
-    w.particles.w[0] = -s.v0 / kRadius;
-  else
-    w.particles.w[0] = Vec(0.0, s.v0 / kRadius, 0.0);
+  roll_forward(w, 0, s.v0, kRadius);
 
   // Contact periods: normal (tangent stiffness 2 Y* sqrt(R delta), mass m) and tangential
   // (8 G* sqrt(R delta), effective mass of the contact point m c / (1 + c)).
@@ -248,13 +228,8 @@ void check_hold() {
 template <int D>
 void check_roll(double mu_r_grain) {
   const std::string dim = dim_name(D) + (mu_r_grain > 0.0 ? "_capped" : "_free");
-  Setup s;
-  s.tan_alpha = 2.0 * kMuR;
-  s.mu_r_grain = mu_r_grain;
-  const double alpha = std::atan(s.tan_alpha);
-  const double c = ParticleStore<D>::inertia_factor();
-  const double mu_r_pair = std::min(mu_r_grain, kMuR);
-  const double a_expected = kG * (std::sin(alpha) - mu_r_pair * std::cos(alpha)) / (1.0 + c);
+  const Setup s = rolling_case(mu_r_grain);
+  const double a_expected = capped_rolling_acceleration<D>(s, kG);
   const Trace tr = simulate<D>(s);
   const double a = fit_acceleration(tr, 0.1, 0.5);
   ::testing::Test::RecordProperty(dim + "_a", num(a));
