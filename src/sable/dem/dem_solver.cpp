@@ -43,8 +43,6 @@ template <int D>
 void DemSolver<D>::initialize() {
   // The lists carry rolling springs exactly when the law has rolling resistance.
   w_.neighbors.rolling = w_.model.rolling != RollingModel::kNone;
-  if (w_.neighbors.rolling && w_.neighbors.bridges)  // the scenario parser refuses it too
-    throw InputError("rolling resistance with capillary bridges is not supported yet");
   w_.neighbors.build(w_.particles, w_.walls);
   compute_forces();
 }
@@ -186,7 +184,7 @@ void DemSolver<D>::compute_forces() {
 
 // Before a pass with rolling resistance: springs for every list entry (a snapshot written
 // without them starts them at zero) and each grain's 1 / (I + m R^2), once per step rather
-// than twice per contact.
+// than twice per contact. The wet pass has no couple (the scenario parser refuses the pair).
 template <int D>
 void DemSolver<D>::prepare_rolling(bool wet) {
   auto& nl = w_.neighbors;
@@ -196,8 +194,6 @@ void DemSolver<D>::prepare_rolling(bool wet) {
     nl.pairs.roll.assign(nl.pairs.size(), Space<D>::zero_rot());
   if (nl.wall_pairs.roll.size() != nl.wall_pairs.size())
     nl.wall_pairs.roll.assign(nl.wall_pairs.size(), Space<D>::zero_rot());
-  pair_roll_.resize(nl.pairs.size(), Space<D>::zero_rot());
-  wall_roll_.resize(nl.wall_pairs.size(), Space<D>::zero_rot());
   const auto n = static_cast<std::ptrdiff_t>(p.size());
   roll_inv_ic_.resize(p.size());
   double* const inv_ic = roll_inv_ic_.data();
