@@ -16,7 +16,8 @@
 #   quick  2D contact dynamics, with rolling resistance (cd-2d-rolling: the figure's network)
 #          and with freely rotating disks (cd-2d) (the README's main job, ~4 minutes)
 #   full   quick's cases, the same two by DEM (dem-2d-rolling, dem-2d: Hertz-Mindlin, stiff
-#          grains) and 3D CD (cd-3d, cylindrical silo; the 3D run alone takes 15-25 minutes)
+#          grains) and 3D CD (cd-3d-rolling, cd-3d: cylindrical silo; each 3D run takes 15-25
+#          minutes)
 #   large  the 3,000-grain 2D DEM variant of docs/examples.md (~10 minutes)
 # The cases without "-rolling" are the paper's set-up as given (free disks); those with it add
 # a rolling friction of 0.1, which puts > 90 % of the wall contacts on the Coulomb cone
@@ -26,15 +27,15 @@ cd "$(dirname "$0")/../.."
 mode="${1:-quick}"
 case "$mode" in
   quick) cases="cd-2d-rolling cd-2d" ;;
-  full) cases="cd-2d-rolling cd-2d dem-2d-rolling dem-2d cd-3d" ;;
+  full) cases="cd-2d-rolling cd-2d dem-2d-rolling dem-2d cd-3d-rolling cd-3d" ;;
   large) cases="dem-2d-large" ;;
   *)
     cases="$*"
     for c in $cases; do
       case "$c" in
-        cd-2d | cd-2d-rolling | dem-2d | dem-2d-rolling | cd-3d | dem-2d-large) ;;
+        cd-2d | cd-2d-rolling | dem-2d | dem-2d-rolling | cd-3d | cd-3d-rolling | dem-2d-large) ;;
         *) echo "usage: $0 [quick | full | large | CASE...] with CASE among cd-2d cd-2d-rolling" \
-          "dem-2d dem-2d-rolling cd-3d dem-2d-large (got '$c')" >&2; exit 2 ;;
+          "dem-2d dem-2d-rolling cd-3d cd-3d-rolling dem-2d-large (got '$c')" >&2; exit 2 ;;
       esac
     done ;;
 esac
@@ -46,7 +47,7 @@ mkdir -p "$out"
 # holds ~10 wall contacts per snapshot and the profile averaged over the descent is smooth
 # enough to test Janssen's shape; four (12 mm) for the 3D silo, whose wall is a surface with
 # many more contacts per bin (docs/examples.md).
-bin_for() { if [ "$1" = cd-3d ]; then echo 0.012; else echo 0.018; fi; }
+bin_for() { case "$1" in cd-3d*) echo 0.012 ;; *) echo 0.018 ;; esac; }
 
 step_of() { "$bin" info "$1" | awk '$1 == "step" { print $2 }'; }
 # DEM is cheap, and so is CD with rolling resistance (15 s a seed: the rolling-locked
