@@ -20,6 +20,13 @@ struct RollingSetup {
   RollingModel rolling = RollingModel::kEpsd;
 };
 
+// Below the threshold: tan(alpha) = 0.8 mu_r, where the couple holds the grain.
+inline RollingSetup holding_case() {
+  RollingSetup s;
+  s.tan_alpha = 0.8 * kRollingMuR;
+  return s;
+}
+
 // Above the threshold: tan(alpha) = 2 mu_r, the grain's rolling friction as given.
 inline RollingSetup rolling_case(double mu_r_grain) {
   RollingSetup s;

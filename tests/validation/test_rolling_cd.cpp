@@ -183,8 +183,7 @@ void record_solver(const std::string& key, const Trace& tr) {
 template <int D>
 void check_hold() {
   const std::string dim = dim_name(D);
-  Setup s;
-  s.tan_alpha = 0.8 * kMuR;
+  const Setup s = holding_case();
   const double alpha = std::atan(s.tan_alpha);
   const double m = mass(D);
   const double c = ParticleStore<D>::inertia_factor();

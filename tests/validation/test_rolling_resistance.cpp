@@ -184,8 +184,7 @@ std::string dim_name(int d) {
 template <int D>
 void check_hold() {
   const std::string dim = dim_name(D);
-  Setup s;
-  s.tan_alpha = 0.8 * kMuR;
+  const Setup s = holding_case();
   const double alpha = std::atan(s.tan_alpha);
   const RestingContact<D> rc(std::cos(alpha));
   const Trace tr = simulate<D>(s);

@@ -306,11 +306,10 @@ void CdSolver<D>::build_contacts() {
   auto& pl = w_.neighbors.pairs;
   auto& wl = w_.neighbors.wall_pairs;
   const double reach = 2.0 * w_.dt * max_speed();
-  // Rolling resistance: the lists' `roll` slots hold each contact's couple (N m) on its grain
-  // i, for the warm start and the outputs (DEM keeps its rolling spring there).
+  // Rolling resistance: the lists' `roll` slots (one per entry, kept by build() and
+  // load_snapshot()) hold each contact's couple (N m) on its grain i, for the warm start and
+  // the outputs (DEM keeps its rolling spring there).
   const bool rolling = w_.model.rolling != RollingModel::kNone;
-  if (rolling && pl.roll.size() != pl.size()) pl.roll.assign(pl.size(), S::zero_rot());
-  if (rolling && wl.roll.size() != wl.size()) wl.roll.assign(wl.size(), S::zero_rot());
   for (std::size_t k = 0; k < pl.size(); ++k) {
     const std::uint32_t i = pl.i[k], j = pl.j[k];
     const Vec d = p.x[i] - p.x[j];

@@ -182,18 +182,14 @@ void DemSolver<D>::compute_forces() {
   }
 }
 
-// Before a pass with rolling resistance: springs for every list entry (a snapshot written
-// without them starts them at zero) and each grain's 1 / (I + m R^2), once per step rather
-// than twice per contact. The wet pass has no couple (the scenario parser refuses the pair).
+// Before a pass with rolling resistance: each grain's 1 / (I + m R^2), once per step rather
+// than twice per contact. (The lists hold one spring per entry whenever NeighborList::rolling
+// is set: build() and load_snapshot() keep them so.) The wet pass has no couple (the scenario
+// parser refuses the pair).
 template <int D>
 void DemSolver<D>::prepare_rolling(bool wet) {
-  auto& nl = w_.neighbors;
   const auto& p = w_.particles;
   if (wet) throw InputError("rolling resistance with capillary bridges is not supported yet");
-  if (nl.pairs.roll.size() != nl.pairs.size())
-    nl.pairs.roll.assign(nl.pairs.size(), Space<D>::zero_rot());
-  if (nl.wall_pairs.roll.size() != nl.wall_pairs.size())
-    nl.wall_pairs.roll.assign(nl.wall_pairs.size(), Space<D>::zero_rot());
   const auto n = static_cast<std::ptrdiff_t>(p.size());
   roll_inv_ic_.resize(p.size());
   double* const inv_ic = roll_inv_ic_.data();
