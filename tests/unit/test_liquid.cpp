@@ -198,3 +198,24 @@ TEST(Wetting, DryScenarioRefusesAWetSnapshot) {
   EXPECT_EQ(again.liquid.total, wet.liquid.total);
   std::filesystem::remove(path);
 }
+
+// A dry snapshot continued by a wet scenario (a dry deposit, then wetted by a stage's
+// water_content) loads: its state hash is checked as the file was written (without bridges,
+// which a dry law does not hash), and every pair starts without a bridge.
+TEST(Wetting, WetScenarioResumesADrySnapshot) {
+  const auto path = std::filesystem::temp_directory_path() / "sable_test_dry_snapshot.h5";
+  World<3> dry;
+  build(chain({1e-3, 1e-3, 1e-3}, {-1e-9, 2e-5}, "none"), dry);
+  dry.particles.v[1] = {1e-3, -2e-3, 0.5e-3};  // a state the wet world does not have
+  save_snapshot(dry, RunPosition{}, "text", path.string());
+  World<3> wet;
+  build(chain({1e-3, 1e-3, 1e-3}, {-1e-9, 2e-5}), wet);
+  ASSERT_TRUE(wet.neighbors.bridges);
+  ASSERT_NO_THROW(load_snapshot(path.string(), wet));
+  EXPECT_EQ(wet.particles.v, dry.particles.v);
+  EXPECT_EQ(wet.neighbors.pairs.i, dry.neighbors.pairs.i);
+  ASSERT_EQ(wet.neighbors.pairs.bridge.size(), wet.neighbors.pairs.size());
+  for (const double b : wet.neighbors.pairs.bridge) EXPECT_EQ(b, PairList<3>::kNoBridge);
+  EXPECT_EQ(wet.liquid.total, 0.0);
+  std::filesystem::remove(path);
+}

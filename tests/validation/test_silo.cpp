@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -51,30 +52,41 @@ struct Study {
   bool dem = false;
 };
 
-// Run one example scenario into `dir` and analyse it as run.sh does.
-Study run_case(const std::string& name, const fs::path& dir) {
-  const ScenarioConfig cfg = load_scenario(std::string(SABLE_SOURCE_DIR) +
-                                           "/examples/silo-janssen/silo-" + name + ".toml");
-  RunOptions opt;
-  std::ostringstream log;
-  opt.log = &log;
-  opt.live_progress = false;
-  opt.out_dir = (dir / "run").string();
-  run_scenario(cfg, opt);
+// Run one example scenario into `dir` (dir/seed-N for each seed) and analyse it as run.sh
+// does: the snapshots before, during and after the descent of all the seeds pooled.
+Study run_case(const std::string& name, const fs::path& dir,
+               const std::vector<std::uint64_t>& seeds) {
+  ScenarioConfig cfg = load_scenario(std::string(SABLE_SOURCE_DIR) +
+                                     "/examples/silo-janssen/silo-" + name + ".toml");
   Study st;
-  st.snapshots = dir / "run" / "snapshots";
   st.dem = cfg.sim.solver == "dem";
-  const auto s1 = read_snapshot_info((st.snapshots / "end_of_stage_1.h5").string()).step;
-  const auto s2 = read_snapshot_info((st.snapshots / "end_of_stage_2.h5").string()).step;
-  std::vector<std::string> relax;
-  for (const auto& e : fs::directory_iterator(st.snapshots)) {
-    const std::string f = e.path().filename().string();
-    if (f.rfind("step_", 0) != 0) continue;
-    const auto step = std::stoull(f.substr(5));
-    if (step > s1 && step < s2) relax.push_back(e.path().string());
+  std::vector<std::string> before, relax, after;
+  for (const std::uint64_t seed : seeds) {
+    cfg.sim.seed = seed;
+    RunOptions opt;
+    std::ostringstream log;
+    opt.log = &log;
+    opt.live_progress = false;
+    const fs::path run = dir / ("seed-" + std::to_string(seed));
+    opt.out_dir = run.string();
+    run_scenario(cfg, opt);
+    const fs::path snaps = run / "snapshots";
+    if (st.snapshots.empty()) st.snapshots = snaps;
+    const auto s1 = read_snapshot_info((snaps / "end_of_stage_1.h5").string()).step;
+    const auto s2 = read_snapshot_info((snaps / "end_of_stage_2.h5").string()).step;
+    std::vector<std::string> descent;
+    for (const auto& e : fs::directory_iterator(snaps)) {
+      const std::string f = e.path().filename().string();
+      if (f.rfind("step_", 0) != 0) continue;
+      const auto step = std::stoull(f.substr(5));
+      if (step > s1 && step < s2) descent.push_back(e.path().string());
+    }
+    std::sort(descent.begin(), descent.end());
+    descent.push_back((snaps / "end_of_stage_2.h5").string());
+    relax.insert(relax.end(), descent.begin(), descent.end());
+    before.push_back((snaps / "end_of_stage_1.h5").string());
+    after.push_back((snaps / "end_of_stage_3.h5").string());
   }
-  std::sort(relax.begin(), relax.end());
-  relax.push_back((st.snapshots / "end_of_stage_2.h5").string());
   auto analyse = [&](std::vector<std::string> in, const std::string& out) {
     AnalyzeOptions a;
     a.snapshots = std::move(in);
@@ -84,9 +96,9 @@ Study run_case(const std::string& name, const fs::path& dir) {
     run_analysis(a);
     return read(dir / out / "summary.json");
   };
-  st.before = analyse({(st.snapshots / "end_of_stage_1.h5").string()}, "before");
+  st.before = analyse(before, "before");
   st.relax = analyse(relax, "relax");
-  st.after = analyse({(st.snapshots / "end_of_stage_3.h5").string()}, "after");
+  st.after = analyse(after, "after");
   return st;
 }
 
@@ -140,8 +152,9 @@ struct Bounds {
   double min_on_cone;  // fraction of side-wall contacts on the Coulomb cone, descent
   double min_ratio;    // wall shear / normal during the descent, in [min, max] * mu_w
   double max_ratio;
-  double max_ratio_before;  // wall shear / normal at rest before the descent, below this * mu_w
-  double floor_tolerance;   // floor stress / Janssen's (mobilised friction) within 1 +- this
+  double max_ratio_before;    // wall shear / normal at rest before the descent, below this * mu_w
+  double max_on_cone_before;  // fraction on the cone at rest before the descent, below this
+  double floor_tolerance;     // floor stress / Janssen's (mobilised friction) within 1 +- this
 };
 
 // The checks common to every variant, on one solver's study.
@@ -163,7 +176,7 @@ void check_study(const Study& st, const Bounds& b) {
   EXPECT_LT(ratio_before, b.max_ratio_before * kMuWall);
   EXPECT_GE(ratio_relax, b.min_ratio * kMuWall);
   EXPECT_LE(ratio_relax, b.max_ratio * kMuWall);
-  EXPECT_LT(on_cone(st.before), 0.1);
+  EXPECT_LT(on_cone(st.before), b.max_on_cone_before);
   EXPECT_GE(on_cone(st.relax), b.min_on_cone);
   // Janssen with the friction the walls mobilise (sum ft / sum fn) predicts the floor's
   // stress (within the averaged profile's scatter), far below the hydrostatic rho_b g H.
@@ -198,11 +211,11 @@ void check_same_k(const Study& dem, const Study& cd) {
 TEST(SiloJanssen, DumontFortinOuafikSiloByDemAndCd) {
   const fs::path dir = fs::temp_directory_path() / "sable_test_silo";
   fs::remove_all(dir);
-  const Study dem = run_case("dem-2d", dir / "dem");
-  const Study cd = run_case("cd-2d", dir / "cd");
+  const Study dem = run_case("dem-2d", dir / "dem", {2010});
+  const Study cd = run_case("cd-2d", dir / "cd", {2010});
   for (const auto* st : {&dem, &cd}) {
     SCOPED_TRACE(st == &dem ? "DEM" : "CD");
-    check_study(*st, {0.6, 0.75, 1.0, 0.25, 0.05});
+    check_study(*st, {0.6, 0.75, 1.0, 0.25, 0.1, 0.05});
   }
   check_same_k(dem, cd);
   // The profile has Janssen's shape (R^2 of the fit; CD averages 13 snapshots of a slowly
@@ -211,20 +224,29 @@ TEST(SiloJanssen, DumontFortinOuafikSiloByDemAndCd) {
   fs::remove_all(dir);
 }
 
-// With a rolling friction of 0.1 (silo-{cd,dem}-2d-rolling.toml) the wall grains slide: the
-// issue's bounds, at least 90 % of the wall contacts on the cone and shear / normal = mu_w
-// within 5 % (measured on this seed: DEM 98.7 % and 0.245, CD 99.2 % and 0.249). Rolling
-// resistance lets the deposit at rest hold some wall shear (CD: 0.09, DEM: -0.03), still
-// well under the descent's: bound mu_w / 2. One DEM seed's network puts the floor stress
-// 0.91-1.07 of Janssen's (single seeds, descent_scan.sh): bound 10 %.
-TEST(SiloJanssen, RollingResistantSiloPutsWallContactsOnTheCone) {
+// With a rolling friction of 0.1 (silo-{cd,dem}-2d-rolling.toml) the wall grains slide, and
+// every item of the issue holds on the ensembles that examples/silo-janssen/run.sh pools
+// (DEM: 4 seeds, CD: 8; a 350-grain silo's wall stress rides on a few force chains, so a
+// single seed's profile is too patchy to test a shape: R^2 0.31-0.79 for one CD seed).
+// Measured on these ensembles (run.sh, at the commit that added this test): on the cone
+// DEM 99.2 %, CD 97.9 %; shear / normal 0.248 and 0.245; K 0.78 +- 0.04 and 0.81 +- 0.04;
+// R^2 0.98 and 0.98; floor / Janssen 0.96 and 1.01.
+// Bounds: the issue's (>= 90 % on the cone, mu_w within 5 %, R^2 >= 0.9, balance within
+// 1 %). Rolling resistance lets the deposit at rest hold some wall shear and keep some wall
+// contacts at the cone (CD: 0.078 and 15 %), still far below the descent's: bounds mu_w / 2
+// and 30 %, a third of the descent's 90 %. Floor within 10 % of Janssen's (single DEM seeds
+// scatter by 0.91-1.07, descent_scan.sh).
+TEST(SiloJanssen, RollingResistantEnsemblesMeetEveryItem) {
   const fs::path dir = fs::temp_directory_path() / "sable_test_silo_rolling";
   fs::remove_all(dir);
-  const Study dem = run_case("dem-2d-rolling", dir / "dem");
-  const Study cd = run_case("cd-2d-rolling", dir / "cd");
+  const Study dem = run_case("dem-2d-rolling", dir / "dem", {2010, 2011, 2012, 2013});
+  const Study cd =
+      run_case("cd-2d-rolling", dir / "cd", {2010, 2011, 2012, 2013, 2014, 2015, 2016, 2017});
   for (const auto* st : {&dem, &cd}) {
     SCOPED_TRACE(st == &dem ? "DEM" : "CD");
-    check_study(*st, {0.9, 0.95, 1.05, 0.5, 0.1});
+    check_study(*st, {0.9, 0.95, 1.05, 0.5, 0.3, 0.1});
+    // Janssen's shape explains the wall-normal-stress profile (the issue's bound).
+    EXPECT_GE(json_number(st->relax, {"janssen", "r2"}), 0.9);
   }
   check_same_k(dem, cd);
   fs::remove_all(dir);

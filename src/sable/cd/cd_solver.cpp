@@ -67,19 +67,49 @@ class CdSolver<D>::Problem {
   // contact: a round grain's inertia is isotropic, so the rolling velocity answers m along m
   // alone, with 1/I_i + 1/I_j. Called by NLGS after each update of the contact's impulse.
   void solve_extra(std::size_t a) {
+    if (c_.m.empty()) return;
+    const double w_r = rolling_compliance(a);
+    if (w_r == 0.0) return;
+    Rot m = c_.m[a] - rolling_velocity(a) / w_r;
+    project_roll(m, c_.roll_cap[a] * std::max(c_.r[a][0], 0.0));
+    apply_couple(a, m - c_.m[a]);
+  }
+
+  // The couples' share of the natural-map residual (natural_map_error), in the impulses'
+  // units: with the couple over the lever, m / R* (an impulse), and the rolling velocity times
+  // it, R* w (a velocity), the law reads F = m / R* - P(m / R* - R* w) onto |.| <= mu_r r_N,
+  // zero iff solved, as Coulomb's law reads r - P_K(r - U). Without it NLGS could stop on
+  // converged impulses while couples still move.
+  void extra_residual(std::size_t a, double& f2, double& r2, double& u2) const {
     using S = Space<D>;
     if (c_.m.empty()) return;
+    const double lever = c_.roll_r[a];
+    const Rot m = c_.m[a] / lever, u = rolling_velocity(a) * lever;
+    Rot p = m - u;
+    project_roll(p, c_.roll_cap[a] / lever * std::max(c_.r[a][0], 0.0));
+    f2 += S::rot_norm2(Rot(m - p));
+    r2 += S::rot_norm2(m);
+    u2 += S::rot_norm2(u);
+  }
+
+  // 1/I_i + 1/I_j (1/I_i against a wall): how the rolling velocity answers a couple.
+  double rolling_compliance(std::size_t a) const {
     const std::uint32_t i = c_.i[a], j = c_.partner[a];
-    const bool grain = !c_.wall[a];
-    const double w_r = p_.inv_inertia[i] + (grain ? p_.inv_inertia[j] : 0.0);
-    if (w_r == 0.0) return;
-    Rot w_rel = grain ? Rot(p_.w[i] - p_.w[j]) : p_.w[i];
+    return p_.inv_inertia[i] + (c_.wall[a] ? 0.0 : p_.inv_inertia[j]);
+  }
+
+  // The relative rolling velocity w_i - w_j (w_i against a wall), twist removed in 3D.
+  Rot rolling_velocity(std::size_t a) const {
+    const std::uint32_t i = c_.i[a], j = c_.partner[a];
+    Rot w_rel = c_.wall[a] ? p_.w[i] : Rot(p_.w[i] - p_.w[j]);
     if constexpr (D == 3) w_rel -= w_rel.dot(c_.frame[a].col(0)) * c_.frame[a].col(0);
-    Rot m = c_.m[a] - w_rel / w_r;
-    const double cap = c_.roll_cap[a] * std::max(c_.r[a][0], 0.0);
-    const double m2 = S::rot_norm2(m);
+    return w_rel;
+  }
+
+  // m onto the disk |m| <= cap.
+  static void project_roll(Rot& m, double cap) {
+    const double m2 = Space<D>::rot_norm2(m);
     if (m2 > cap * cap) m *= cap / std::sqrt(m2);
-    apply_couple(a, m - c_.m[a]);
   }
 
   // m_a += dm, and the grains' spins with it.
@@ -113,6 +143,7 @@ void CdSolver<D>::Contacts::clear() {
   gap.clear();
   r.clear();
   roll_cap.clear();
+  roll_r.clear();
   m.clear();
 }
 
@@ -289,6 +320,7 @@ void CdSolver<D>::add_contact(std::uint32_t i, std::uint32_t partner, std::uint3
   const double r_i = p.radius[i];
   const double r_eff = kWall ? r_i : r_i * p.radius[partner] / (r_i + p.radius[partner]);
   c_.roll_cap.push_back(pp.rolling_friction * r_eff);
+  c_.roll_r.push_back(r_eff);
   Rot m = s_.warm_start ? Rot(couple * w_.dt) : S::zero_rot();
   if constexpr (D == 3) m -= m.dot(n) * n;  // last step's couple, in the new tangent plane
   c_.m.push_back(m);

@@ -65,8 +65,10 @@ class CdSolver final : public Solver {
     std::vector<double> gap;  // at the start of the step; max(gap, 0) / h joins U_N
     std::vector<LVec> r;      // impulse, local frame
     // Rolling resistance only (else empty): mu_r R* (the couple's cap over the normal
-    // impulse) and the rolling impulse on grain i (a couple times h; its partner gets minus).
+    // impulse), R* (the rolling lever, which scales the couple's residual) and the rolling
+    // impulse on grain i (a couple times h; its partner gets minus).
     std::vector<double> roll_cap;
+    std::vector<double> roll_r;
     std::vector<Rot> m;
     std::size_t size() const { return i.size(); }
     void clear();

@@ -65,6 +65,10 @@ struct NlgsResult {
 //   void solve_extra(std::size_t a);               optional: called after each apply() of a
 //                                                  sweep, for unknowns beside the impulse
 //                                                  (the grain problem's rolling couples)
+//   void extra_residual(std::size_t a, double& f2, double& r2, double& u2) const;
+//                                                  optional: adds those unknowns' natural
+//                                                  map (f2) and norms (r2, u2) to the
+//                                                  sums of natural_map_error
 
 // Euclidean projection of x onto the Coulomb cone K_mu = { |x_T| <= mu x_N }.
 template <int d>
@@ -85,7 +89,8 @@ template <int d, class Problem>
 NlgsResult solve_nlgs(Problem& problem, const NlgsSettings& s, Rng& rng);
 
 // Siconos' error: ||r - P_K(r - (U + mu|U_T| e_N))|| / max(||q||, ||r||, ||U||), all norms over
-// the whole problem (1 when all three are zero... no: 0 in that trivial case).
+// the whole problem, with the problem's extra unknowns if it has them (extra_residual); 0 when
+// all three are zero.
 template <int d, class Problem>
 double natural_map_error(Problem& problem);
 

@@ -101,6 +101,8 @@ double natural_map_error(Problem& problem) {
     f2 += natural_map<d>(r, U, problem.mu(a)).squaredNorm();
     r2 += r.squaredNorm();
     u2 += U.squaredNorm();
+    if constexpr (requires { problem.extra_residual(a, f2, r2, u2); })
+      problem.extra_residual(a, f2, r2, u2);
   }
   const double den = std::max({problem.q_norm(), std::sqrt(r2), std::sqrt(u2)});
   return detail::safe_ratio(std::sqrt(f2), den);

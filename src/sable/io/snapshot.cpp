@@ -406,6 +406,7 @@ template <int D>
 void read_liquid(const h5::File& f, bool wet_model, std::size_t grains, Loaded<D>& s) {
   auto& pl = s.neighbors.pairs;
   const bool has = f.exists("/neighbors/pairs/bridge");
+  s.neighbors.bridges = has;  // the file's hash covers the bridges iff it has them
   if (has && !wet_model)
     f.fail(
         "holds liquid bridges ('/neighbors/pairs/bridge'), but the scenario's contact law is "
@@ -509,11 +510,14 @@ RunPosition load_snapshot(const std::string& path, World<D>& world, std::string*
   read_rolling(f, s);
   std::string text = f.read_string("/scenario");
   swap_state(world, s);
-  // The state as it was written: with rolling springs if the file has them.
-  const bool rolling = world.neighbors.rolling;
+  // The state as it was written: with rolling springs and liquid bridges if the file has
+  // them (a dry file continued by a wet or rolling law hashes without them).
+  const bool rolling = world.neighbors.rolling, bridges = world.neighbors.bridges;
   world.neighbors.rolling = s.neighbors.rolling;
+  world.neighbors.bridges = s.neighbors.bridges;
   const std::uint64_t h = state_hash(world);
   world.neighbors.rolling = rolling;
+  world.neighbors.bridges = bridges;
   if (h != s.hash) {
     swap_state(world, s);  // put the caller's world back as it was
     f.fail(
