@@ -71,7 +71,7 @@ class CdSolver<D>::Problem {
     const double w_r = rolling_compliance(a);
     if (w_r == 0.0) return;
     Rot m = c_.m[a] - rolling_velocity(a) / w_r;
-    project_roll(m, c_.roll_cap[a] * std::max(c_.r[a][0], 0.0));
+    project_roll(m, c_.roll_mu[a] * c_.roll_r[a] * std::max(c_.r[a][0], 0.0));
     apply_couple(a, m - c_.m[a]);
   }
 
@@ -86,7 +86,7 @@ class CdSolver<D>::Problem {
     const double lever = c_.roll_r[a];
     const Rot m = c_.m[a] / lever, u = rolling_velocity(a) * lever;
     Rot p = m - u;
-    project_roll(p, c_.roll_cap[a] / lever * std::max(c_.r[a][0], 0.0));
+    project_roll(p, c_.roll_mu[a] * std::max(c_.r[a][0], 0.0));
     f2 += S::rot_norm2(Rot(m - p));
     r2 += S::rot_norm2(m);
     u2 += S::rot_norm2(u);
@@ -142,7 +142,7 @@ void CdSolver<D>::Contacts::clear() {
   mu.clear();
   gap.clear();
   r.clear();
-  roll_cap.clear();
+  roll_mu.clear();
   roll_r.clear();
   m.clear();
 }
@@ -319,7 +319,7 @@ void CdSolver<D>::add_contact(std::uint32_t i, std::uint32_t partner, std::uint3
   if (w_.model.rolling == RollingModel::kNone) return;
   const double r_i = p.radius[i];
   const double r_eff = kWall ? r_i : r_i * p.radius[partner] / (r_i + p.radius[partner]);
-  c_.roll_cap.push_back(pp.rolling_friction * r_eff);
+  c_.roll_mu.push_back(pp.rolling_friction);
   c_.roll_r.push_back(r_eff);
   Rot m = s_.warm_start ? Rot(couple * w_.dt) : S::zero_rot();
   if constexpr (D == 3) m -= m.dot(n) * n;  // last step's couple, in the new tangent plane

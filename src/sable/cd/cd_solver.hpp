@@ -64,10 +64,9 @@ class CdSolver final : public Solver {
     std::vector<double> mu;
     std::vector<double> gap;  // at the start of the step; max(gap, 0) / h joins U_N
     std::vector<LVec> r;      // impulse, local frame
-    // Rolling resistance only (else empty): mu_r R* (the couple's cap over the normal
-    // impulse), R* (the rolling lever, which scales the couple's residual) and the rolling
-    // impulse on grain i (a couple times h; its partner gets minus).
-    std::vector<double> roll_cap;
+    // Rolling resistance only (else empty): mu_r and R* (the couple's cap is mu_r R* r_N)
+    // and the rolling impulse on grain i (a couple times h; its partner gets minus).
+    std::vector<double> roll_mu;
     std::vector<double> roll_r;
     std::vector<Rot> m;
     std::size_t size() const { return i.size(); }
