@@ -53,7 +53,7 @@ step_of() { "$bin" info "$1" | awk '$1 == "step" { print $2 }'; }
 # An ensemble of seeds averages out the few force chains that carry a 350-grain silo's wall
 # stress (docs/examples.md). DEM is cheap: four seeds. CD with rolling resistance pools eight:
 # its rolling-locked arches make one seed's wall stress far patchier than DEM's (single-seed
-# R^2 0.31-0.79), and four seeds fit Janssen with R^2 = 0.72 (2010-2013) or 0.98 (2014-2017).
+# R^2 0.05-0.86), and four seeds fit Janssen with R^2 = 0.78 (2010-2013) or 0.96 (2014-2017).
 # The scenarios' own seed is 2010.
 seeds_for() {
   case "$1" in
