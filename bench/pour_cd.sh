@@ -2,23 +2,30 @@
 # CD benchmark: NLGS sweeps per step to tolerance 1e-4 and nanoseconds per contact per sweep,
 # on the settled 20,000-sphere bed of examples/pour.toml (settled by DEM, then resumed by CD).
 # Usage: bench/pour_cd.sh [LOCAL_SOLVER]   (bipotential | exact)
+#   SABLE=PATH     the binary to time (default build/release/bin/sable, built first), e.g. an
+#                  older build for a before / after comparison; SABLE_BUILD=0: do not build
+#   OUT=DIR        this run's output (default out/bench-pour-cd/cd)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 local_solver="${1:-bipotential}"
-bash scripts/build.sh release >/dev/null
+case "$local_solver" in bipotential|exact) ;; *) echo "pour_cd.sh: local solver '$local_solver': expected bipotential or exact" >&2; exit 2 ;; esac
+[ "${SABLE_BUILD:-1}" = 0 ] || bash scripts/build.sh release >/dev/null
+sable="${SABLE:-./build/release/bin/sable}"
+[ -x "$sable" ] || { echo "pour_cd.sh: no Sable binary at $sable" >&2; exit 1; }
 work=out/bench-pour-cd
+out="${OUT:-$work/cd}"
 mkdir -p "$work"
 snap="$work/dem/snapshots/end_of_stage_1.h5"
 if [ ! -f "$snap" ]; then
   sed -e 's/^vtk_interval = .*/vtk_interval = 0/' examples/pour.toml > "$work/pour.toml"
-  ./build/release/bin/sable run "$work/pour.toml" --out "$work/dem" 2>/dev/null
+  "$sable" run "$work/pour.toml" --out "$work/dem" 2>/dev/null
 fi
 sed "s/^criterion = .*/criterion = \"natural\"\nlocal_solver = \"$local_solver\"/" bench/pour_cd.toml > "$work/pour_cd.toml"
-rm -rf "$work/cd"
-./build/release/bin/sable run "$work/pour_cd.toml" --out "$work/cd" --resume "$snap" \
-  2> "$work/cd.log"
-grep -E "^stage 'cd' done|^done:|warning" "$work/cd.log" || true
-/usr/bin/python3 - "$work/cd/series.csv" "$work/cd.log" <<'PY'
+rm -rf "$out"
+mkdir -p "$out"
+"$sable" run "$work/pour_cd.toml" --out "$out" --resume "$snap" 2> "$out/cd.log"
+grep -E "^stage 'cd' done|^done:|warning" "$out/cd.log" || true
+/usr/bin/python3 - "$out/series.csv" "$out/cd.log" <<'PY'
 import csv, re, sys
 rows = list(csv.DictReader(open(sys.argv[1])))[1:]  # drop the resume row
 log = open(sys.argv[2]).read()

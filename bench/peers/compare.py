@@ -392,7 +392,9 @@ def build_table(root, meta, runs):
       "over 10 x 10 columns (2 d wide) of the highest grain top; solid fraction = volume of the "
       "grains whose centres are in the region / region volume; coordination = mean contacts per "
       "grain of those grains; floor / weight = vertical force of the bottom wall on the grains "
-      "at the last step / (N rho 4/3 pi r^3 g).")
+      "at the last step / (N rho 4/3 pi r^3 g). One bed per code is one draw: the floor's "
+      "share of the weight changes with any round-off (LIGGGHTS' 1- and 2-rank beds differ); "
+      "`bench/peers/seeds.sh` compares the two codes' distributions over seeds.")
     w("")
     w("| quantity | cores | LIGGGHTS | Sable | Sable - LIGGGHTS (relative) | target | met |")
     w("|---|---|---|---|---|---|---|")

@@ -65,19 +65,11 @@ root="$PEERS_OUT/$variant"
 if [ "$variant" = soft ]; then table="$PEERS_OUT/compare.md"; else table="$PEERS_OUT/compare-stiff.md"; fi
 PY=/usr/bin/python3   # Debian's python, where python3-numpy lives (a pyenv python3 may lack numpy)
 
+# shellcheck source=lib.sh
+source "$here/lib.sh"
+
 # ---------------------------------------------------------------- prerequisites
-sudo=""
-[ "$(id -u)" -eq 0 ] || sudo="sudo"
-need=()
-command -v liggghts >/dev/null 2>&1 || need+=(liggghts)
-command -v mpirun >/dev/null 2>&1 || need+=(openmpi-bin)
-{ [ -x "$PY" ] && "$PY" -c 'import numpy' 2>/dev/null; } || need+=(python3-numpy)
-[ -x /usr/bin/time ] || need+=(time)
-if [ ${#need[@]} -gt 0 ]; then
-  echo "installing: ${need[*]}" >&2
-  $sudo apt-get update
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y "${need[@]}"
-fi
+peers_need_tools
 mpiflags=(--bind-to core)
 # OpenMPI refuses to start as root without this flag (containers, CI machines).
 if [ "$(id -u)" -eq 0 ]; then mpiflags=(--allow-run-as-root "${mpiflags[@]}"); fi
@@ -91,20 +83,7 @@ fi
 # ---------------------------------------------------------------- inputs
 rm -rf "$root/runs"
 mkdir -p "$root/runs"
-"$PY" "$here/gen_lattice.py" "$root/lattice20k.data" 20000 "$SEED" >/dev/null
-# CSV rows on a common divisor of both stage lengths (<= 1000, LIGGGHTS' thermo interval), so
-# that series.csv has a row at the end of phase (b).
-gcd() { local a=$1 b=$2 t; while [ "$b" -ne 0 ]; do t=$((a % b)); a=$b; b=$t; done; echo "$a"; }
-csv=$(gcd "$(gcd "$NSETTLE" "$NSTATIC")" 1000)
-[ "$csv" -ge 100 ] || echo "note: csv_interval = $csv (NSETTLE and NSTATIC share no larger divisor)" >&2
-sed -e "s|^dt = .*# @DT.*|dt = $DT   # @DT|" \
-    -e "s|^young = .*# @YOUNG.*|young = $E   # @YOUNG|" \
-    -e "s|^steps = .*# @NSETTLE.*|steps = $NSETTLE   # @NSETTLE|" \
-    -e "s|^steps = .*# @NSTATIC.*|steps = $NSTATIC   # @NSTATIC|" \
-    -e "s|^csv_interval = .*# @CSV.*|csv_interval = $csv   # @CSV|" \
-    -e "s|^seed = .*# @SEED.*|seed = $SEED   # @SEED|" \
-    "$here/pour.toml" > "$root/pour.toml"
-[ "$(grep -cE '^[a-z_]+ = [0-9.e+-]+   # @[A-Z]+$' "$root/pour.toml")" -eq 6 ] || { echo "pour.toml: tagged lines missing" >&2; exit 1; }
+peers_inputs "$root" "$SEED" "$E" "$DT" "$NSETTLE" "$NSTATIC"
 
 cat > "$root/meta.txt" <<EOF
 variant=$variant
@@ -123,34 +102,15 @@ command=bench/peers/compare.sh $([ "$stiff" = 1 ] && echo '--stiff ')$REPEATS $N
 EOF
 
 # ---------------------------------------------------------------- runs
-ligvars=(-var data "$root/lattice20k.data" -var dt "$DT" -var nsettle "$NSETTLE"
-         -var nstatic "$NSTATIC" -var tag bed -var E "$E")
-
 run_liggghts() {  # REP CORES
-  local d="$root/runs/r$1_c$2_liggghts" rc=0
-  mkdir -p "$d/out"
-  if [ "$2" -eq 1 ]; then
-    (cd "$d" && /usr/bin/time -v -o mem.rank0.txt \
-      liggghts -in "$here/in.pour.liggghts" -log log.liggghts "${ligvars[@]}" -var px 1 \
-      > stdout.txt 2>&1) || rc=$?
-  else
-    # GNU time around each rank (around mpirun it would see only mpirun itself).
-    (cd "$d" && mpirun "${mpiflags[@]}" -np "$2" sh -c \
-      'exec /usr/bin/time -v -o "mem.rank${OMPI_COMM_WORLD_RANK:-${PMI_RANK:-$$}}.txt" "$0" "$@"' \
-      liggghts -in "$here/in.pour.liggghts" -log log.liggghts "${ligvars[@]}" -var px "$2" \
-      > stdout.txt 2>&1) || rc=$?
-  fi
-  if [ $rc -ne 0 ]; then echo "LIGGGHTS failed (exit $rc), $d:" >&2; tail -20 "$d/stdout.txt" >&2; exit 1; fi
+  local d="$root/runs/r$1_c$2_liggghts"
+  peers_run_liggghts "$root" "$d" "$2" "$E" "$DT" "$NSETTLE" "$NSTATIC" "${mpiflags[@]}" || exit 1
   grep -E '^Loop time of' "$d/log.liggghts" | head -2 | sed 's/, finish time.*//; s/^/    /' >&2
 }
 
 run_sable() {  # REP CORES
-  local d="$root/runs/r$1_c$2_sable" rc=0
-  mkdir -p "$d"
-  /usr/bin/time -v -o "$d/mem.rank0.txt" "$SABLE" run "$root/pour.toml" --out "$d/sim" \
-    --threads "$2" > "$d/stdout.txt" 2> "$d/stderr.txt" || rc=$?
-  if [ $rc -ne 0 ]; then echo "Sable failed (exit $rc), $d:" >&2; tail -20 "$d/stderr.txt" >&2; exit 1; fi
-  rm -rf "$d/sim/snapshots"  # not needed for the comparison (two 1-2 MB HDF5 files per run)
+  local d="$root/runs/r$1_c$2_sable"
+  peers_run_sable "$root" "$d" "$2" || exit 1
   grep -E "^stage '.*' done" "$d/stderr.txt" | sed 's/ (.*//; s/^/    /' >&2
 }
 

@@ -1,7 +1,7 @@
-// The one-contact pieces of the NLGS (nlgs.hpp): projection on the Coulomb cone, natural map,
-// the bi-potential prediction-correction local solver (Dumont, Fortin & Ouafik 2010, eq. 15)
-// and the exact local solver (enumeration of take-off / stick / slide, Figure 4 of the paper).
-// Explicitly instantiated for d = 2, 3.
+// The one-contact solvers of the NLGS (nlgs.hpp): the bi-potential prediction-correction local
+// solver (Dumont, Fortin & Ouafik 2010, eq. 15) and the exact local solver (enumeration of
+// take-off / stick / slide, Figure 4 of the paper). Explicitly instantiated for d = 2, 3. The
+// projection on the Coulomb cone and the natural map are in nlgs_impl.hpp.
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
@@ -25,12 +25,13 @@ double tangent_norm(const LVec<d>& x) {
   return x.template tail<d - 1>().norm();
 }
 
-// |F(r, U)| / max(|q|, |r|, |U|) for one contact (0 when everything is zero).
+// |F(r, U)| / max(|q|, |r|, |U|) for one contact (0 when everything is zero); q_norm = |q|,
+// computed once by the caller (the bi-potential loop calls this at every local iteration).
 template <int d>
-double local_relative_error(const LVec<d>& r, const LVec<d>& U, const LVec<d>& q, double mu) {
+double local_relative_error(const LVec<d>& r, const LVec<d>& U, double q_norm, double mu) {
   const double f = natural_map<d>(r, U, mu).norm();
   if (f == 0.0) return 0.0;
-  const double den = std::max({q.norm(), r.norm(), U.norm()});
+  const double den = std::max({q_norm, r.norm(), U.norm()});
   return den > 0.0 ? f / den : std::numeric_limits<double>::infinity();
 }
 
@@ -78,10 +79,12 @@ LVec<d> solve_bipotential(const LMat<d>& W, const LVec<d>& q, double mu, const L
   const double lmax = max_eigenvalue<d>(Wh);
   const double rho = lmax > 0.0 ? 1.0 / lmax : 1.0;
   LVec<d> rh = r_in.cwiseQuotient(s);
+  const double q_norm = q.norm();
   for (int it = 0; it < kLocalCap; ++it) {
     const LVec<d> Uh = Wh * rh + qh;
     // Stop on the natural map of the original (unscaled) problem: U = S^-1 U^, r = S r^.
-    if (local_relative_error<d>(s.cwiseProduct(rh), Uh.cwiseQuotient(s), q, mu) <= kLocalTolerance)
+    if (local_relative_error<d>(s.cwiseProduct(rh), Uh.cwiseQuotient(s), q_norm, mu) <=
+        kLocalTolerance)
       break;
     LVec<d> tau = rh - rho * Uh;
     tau[0] -= rho * muh * tangent_norm<d>(Uh);
@@ -194,7 +197,7 @@ bool slide_3d(const LMat<3>& W, const LVec<3>& q, double mu, const LVec<3>& r_in
     r[0] = -q[0] / D;
     r.tail<2>() = -mu * r[0] * e;
     // The sign condition lambda >= 0 and the root's accuracy, checked on the law itself.
-    if (!(local_relative_error<3>(r, W * r + q, q, mu) <= kSlideAcceptance)) continue;
+    if (!(local_relative_error<3>(r, W * r + q, q.norm(), mu) <= kSlideAcceptance)) continue;
     const double dist = (r - r_in).squaredNorm();
     if (!found || dist < best) out = r, best = dist, found = true;
   }
@@ -213,8 +216,11 @@ LVec<d> solve_exact(const LMat<d>& W, const LVec<d>& q, double mu, const LVec<d>
   }
   LMat<d> Winv;
   bool invertible = false;
+  // The determinant's scale, scale^d, as a product: std::pow was 9 % of the NLGS's instructions.
   const double scale = W.cwiseAbs().maxCoeff();
-  W.computeInverseWithCheck(Winv, invertible, 1e-13 * std::pow(scale, d));
+  double scale_d = scale;
+  for (int k = 1; k < d; ++k) scale_d *= scale;
+  W.computeInverseWithCheck(Winv, invertible, 1e-13 * scale_d);
   if (invertible) {  // stick: U = 0
     LVec<d> r = -Winv * q;
     r -= Winv * (W * r + q);  // one step of iterative refinement (ill-conditioned W)
@@ -234,31 +240,6 @@ LVec<d> solve_exact(const LMat<d>& W, const LVec<d>& q, double mu, const LVec<d>
 }  // namespace
 
 template <int d>
-LVec<d> project_cone(const LVec<d>& x, double mu) {
-  LVec<d> p = LVec<d>::Zero();
-  const double xn = x[0];
-  if (mu <= 0.0) {  // frictionless: the cone is the half-line of normal impulses
-    p[0] = std::max(xn, 0.0);
-    return p;
-  }
-  const double t = tangent_norm<d>(x);
-  if (t <= mu * xn) return x;   // inside K_mu
-  if (mu * t <= -xn) return p;  // in the polar cone: projects onto the apex
-  // Onto the boundary generator through x_T: (s, mu s x_T / |x_T|), s = (x_N + mu t)/(1 + mu^2).
-  const double sn = (xn + mu * t) / (1.0 + mu * mu);
-  p[0] = sn;
-  p.template tail<d - 1>() = (mu * sn / t) * x.template tail<d - 1>();
-  return p;
-}
-
-template <int d>
-LVec<d> natural_map(const LVec<d>& r, const LVec<d>& U, double mu) {
-  LVec<d> u_ds = U;  // De Saxce's modified velocity U + mu |U_T| e_N
-  u_ds[0] += mu * tangent_norm<d>(U);
-  return r - project_cone<d>(r - u_ds, mu);
-}
-
-template <int d>
 LVec<d> solve_local(const LMat<d>& W, const LVec<d>& q, double mu, const LVec<d>& r,
                     LocalSolver kind) {
   if (kind == LocalSolver::kExact) return solve_exact<d>(W, q, mu, r);
@@ -273,10 +254,6 @@ void fill_sweep_order(std::vector<std::size_t>& order, SweepOrder o, int sweep, 
   }
 }
 
-template LVec<2> project_cone<2>(const LVec<2>&, double);
-template LVec<3> project_cone<3>(const LVec<3>&, double);
-template LVec<2> natural_map<2>(const LVec<2>&, const LVec<2>&, double);
-template LVec<3> natural_map<3>(const LVec<3>&, const LVec<3>&, double);
 template LVec<2> solve_local<2>(const LMat<2>&, const LVec<2>&, double, const LVec<2>&,
                                 LocalSolver);
 template LVec<3> solve_local<3>(const LMat<3>&, const LVec<3>&, double, const LVec<3>&,
