@@ -45,7 +45,7 @@ if [ "${1:-}" = --job ]; then
   root=$2 code=$3 cores=$4
   d="$root/runs/r1_c${cores}_$code"
   t0=$(date +%s)
-  if [ -n "${RESUME_RUNS:-}" ] && run_finished "$d" "$code"; then exit 0; fi
+  if [ "${RESUME:-0}" = 1 ] && run_finished "$d" "$code"; then exit 0; fi
   rm -rf "$d"
   if [ "$code" = liggghts ]; then
     # One-rank runs share the cores with others, so no binding; root needs OpenMPI's consent.
@@ -102,8 +102,7 @@ done
 # One-core runs in a pool, the longest (LIGGGHTS) first so that the pool ends together; then
 # the multi-rank runs, one at a time, each bound to its cores.
 sort -k2,2 -k3,3n -s "$jobs_file" -o "$jobs_file"
-export RESUME_RUNS=""
-[ "${RESUME:-0}" = 1 ] && RESUME_RUNS=1
+export RESUME="${RESUME:-0}"
 echo "$(wc -l < "$jobs_file") runs for ${#seeds[@]} seed(s) ..." >&2
 t0=$(date +%s)
 failed=0

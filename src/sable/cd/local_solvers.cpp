@@ -20,11 +20,6 @@ constexpr double kLocalTolerance = 1e-14;  // relative local natural map of the 
 constexpr int kLocalCap = 5000;            // bi-potential local iterations at most
 constexpr double kSlideAcceptance = 1e-9;  // a 3D sliding root must satisfy the law to this
 
-template <int d>
-double tangent_norm(const LVec<d>& x) {
-  return x.template tail<d - 1>().norm();
-}
-
 // |F(r, U)| / max(|q|, |r|, |U|) for one contact (0 when everything is zero); q_norm = |q|,
 // computed once by the caller (the bi-potential loop calls this at every local iteration).
 template <int d>
