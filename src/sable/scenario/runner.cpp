@@ -344,7 +344,7 @@ std::string Runner<D>::stage_summary(const StageClock& c) const {
   for (int k = 0; k < static_cast<int>(Phase::kCount); ++k) {
     const double t = solver_->timers().seconds(static_cast<Phase>(k)) - c.phase_seconds[k];
     if (t == 0.0) continue;
-    phases += fmt::format("{}{} {:.0f}%", k ? ", " : "", kPhaseNames[k],
+    phases += fmt::format("{}{} {:.3g} s ({:.0f}%)", k ? ", " : "", kPhaseNames[k], t,
                           total > 0 ? 100.0 * t / total : 0.0);
   }
   const std::uint64_t remakes = solver_->diagnostics().near_remakes;
