@@ -12,6 +12,7 @@
 #include "sable/dem/dem_solver.hpp"
 #include "sable/scenario/config.hpp"
 #include "sable/scenario/runner.hpp"
+#include "sable/world/guards.hpp"
 #include "sable/world/state_hash.hpp"
 
 namespace {
@@ -158,9 +159,8 @@ TEST(DemBasics, ThreadCountDoesNotChangeABit) {
 
 // A dilute bed: the lattice spread out (gaps of half a radius, within the list's skin but
 // beyond the near list's), so the near list is empty while 3,072 grains fall, and those of
-// the bottom layer that move down touch the floor. The step's one parallel region then runs a team
-// for the grains' and walls' loops alone (dem_solver.cpp, dry_forces), with every pair block empty:
-// 1, 2, 3 and 4 threads give the same state hash, exactly.
+// the bottom layer that move down touch the floor: the pair pass has nothing to split, the
+// grain loops still run on a team. 1, 2, 3 and 4 threads give the same state hash, exactly.
 TEST(DemBasics, ThreadCountDoesNotChangeABitInADiluteBed) {
   std::size_t candidates = 0;
   auto run = [&candidates](int threads) {
@@ -294,8 +294,7 @@ TEST(DemBasics, RunawayStopsWithSnapshot) {
 }
 
 // A grain whose position is not finite stops the next step, named, although its velocity is
-// sound and it touches nothing: the drift checks every position (dem::DriftPass), the closing
-// kick only the velocities.
+// sound and it touches nothing: the guard checks positions too (guards.hpp, position_ok).
 TEST(DemBasics, NonFinitePositionStopsTheStep) {
   auto w = world_with_material();
   const double r = 1e-3;
@@ -312,6 +311,40 @@ TEST(DemBasics, NonFinitePositionStopsTheStep) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find("grain id 1 has a non-finite state"), std::string::npos) << msg;
   }
+}
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The run guard's two halves (world/guards.hpp). position_ok: every finite position passes,
+// even the largest (x - x is 0 there too); an infinite or NaN coordinate fails, in any
+// component, in 2D and 3D. motion_ok: a speed up to max_speed passes, above it fails, and so
+// does any non-finite velocity or spin.
+TEST(Guards, PositionAndMotionTests) {
+  const double big = std::numeric_limits<double>::max();
+  EXPECT_TRUE(sable::position_ok<3>(Eigen::Vector3d(1.0, -2.0, 3.0)));
+  EXPECT_TRUE(sable::position_ok<3>(Eigen::Vector3d(big, -big, big)));
+  EXPECT_TRUE(sable::position_ok<2>(Eigen::Vector2d(-big, 0.0)));
+  for (int c = 0; c < 3; ++c)
+    for (double bad : {kInf, -kInf, kNaN}) {
+      Eigen::Vector3d x(1.0, 2.0, 3.0);
+      x[c] = bad;
+      EXPECT_FALSE(sable::position_ok<3>(x)) << "component " << c << " = " << bad;
+      if (c < 2) {
+        Eigen::Vector2d x2(1.0, 2.0);
+        x2[c] = bad;
+        EXPECT_FALSE(sable::position_ok<2>(x2)) << "2D component " << c << " = " << bad;
+      }
+    }
+  const Eigen::Vector3d w(1.0, 2.0, 3.0);
+  EXPECT_TRUE(sable::motion_ok<3>(Eigen::Vector3d(3.0, 4.0, 0.0), w, 5.0));  // |v| = max
+  EXPECT_FALSE(sable::motion_ok<3>(Eigen::Vector3d(3.0, 4.0, 1e-6), w, 5.0));
+  EXPECT_FALSE(sable::motion_ok<3>(Eigen::Vector3d(kNaN, 0.0, 0.0), w, 5.0));
+  EXPECT_FALSE(
+      sable::motion_ok<3>(Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::Vector3d(0, kInf, 0), 5.0));
+  EXPECT_FALSE(sable::motion_ok<2>(Eigen::Vector2d(0.0, 0.0), kNaN, 5.0));
+  // Spins are only required finite, tested through their square (so up to ~1e154 rad/s).
+  EXPECT_TRUE(sable::motion_ok<2>(Eigen::Vector2d(0.0, 1.0), 1e150, 5.0));
 }
 
 // A pair inserted with a 5 % overlap and a sensible dt separates without running away, but the

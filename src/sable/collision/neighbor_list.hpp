@@ -101,11 +101,6 @@ class NeighborList {
   // that can close during the coming step.
   bool needs_rebuild(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls,
                      double margin = 0.0) const;
-  // The same test when the caller already knows the grains' largest squared displacement
-  // since the build (`moved2`, measured against x_ref): the DEM drift measures it as it moves
-  // them, which saves a pass over the grains every step.
-  bool needs_rebuild_after(double moved2, const ParticleStore<D>& p,
-                           const std::vector<Wall<D>>& walls, double margin = 0.0) const;
   void build(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls);
 
  private:

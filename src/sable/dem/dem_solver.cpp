@@ -5,11 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "sable/contact/liquid.hpp"
 #include "sable/core/error.hpp"
-#include "sable/dem/passes.hpp"
 #include "sable/world/guards.hpp"
 
 namespace sable {
@@ -19,10 +17,27 @@ namespace sable {
 constexpr std::ptrdiff_t kMinParallelItems = 2048;
 constexpr std::uint8_t kBridgeFormed = 1, kBridgeBroken = 2;
 
-// The opening half's maxima and flag, reduced over threads (exact: the same for any count).
-#pragma omp declare reduction(drift_max       \
-                              : dem::DriftMax \
-                              : omp_out.merge(omp_in)) initializer(omp_priv = dem::DriftMax{})
+namespace {
+
+// Entry k is apart. A contact that has just ended forgets its history; entries already apart
+// hold zeros and are not written again (most candidates are apart: this saves bandwidth).
+// Grain pairs and wall pairs alike, through their arrays' addresses (see PairPass).
+template <class Vec, class Rot>
+void forget_if_ended(Vec* shear, Vec* force, Rot* moment, double* delta, std::size_t k,
+                     const Rot& zero) {
+  if (delta[k] == 0.0) return;
+  shear[k].setZero();
+  force[k].setZero();
+  moment[k] = zero;
+  delta[k] = 0.0;
+}
+
+// How the grain-pair passes sum forces per grain (see pair_forces and accumulate): store in
+// the contact's slots only, for the gather (kGather); add to both grains (kScatter); add to
+// the grains not flagged `gathered`, store for the others (kScatterChecked).
+enum class Sum : std::uint8_t { kGather, kScatter, kScatterChecked };
+
+}  // namespace
 
 template <int D>
 void DemSolver<D>::initialize() {
@@ -33,146 +48,138 @@ void DemSolver<D>::initialize() {
 }
 
 // One velocity-Verlet step. Forces at t are known on entry (from the previous step or
-// initialize()), so the step is: half kick and drift, contact detection, forces at t + h,
-// half kick. Gravity enters as an acceleration in the kicks. Each pass over the grains does
-// all it can: the drift measures how far the grains moved for the lists' staleness tests and
-// checks the positions, and the closing half kick (with the guard on each grain's velocities)
-// runs in the force pass's last loop, on each grain as soon as its sum is known.
+// initialize()), so the step is: half kick, drift, contact detection, forces at t + h,
+// half kick. Gravity enters as an acceleration in the kicks.
 template <int D>
 void DemSolver<D>::step() {
   const double h = w_.dt;
-  dem::DriftMax moved;
   {
     auto scope = timers_.time(Phase::kIntegrate);
-    moved = kick_drift(0.5 * h, h);
+    kick_drift(0.5 * h, h);
     for (auto& wall : w_.walls) wall.point += h * wall.velocity;
   }
   {
     auto scope = timers_.time(Phase::kNeighbors);
-    if (w_.neighbors.needs_rebuild_after(moved.since_build, w_.particles, w_.walls))
+    if (w_.neighbors.needs_rebuild(w_.particles, w_.walls))
       w_.neighbors.build(w_.particles, w_.walls);
   }
-  const bool sound = forces(moved.since_near, 0.5 * h) && !moved.bad;
+  compute_forces();
+  {
+    auto scope = timers_.time(Phase::kIntegrate);
+    kick(0.5 * h);
+  }
   w_.time += h;
   ++w_.step;
-  if (!sound) check_grain_states(w_);  // names the first bad grain and throws
+  check_grain_states(w_);
 }
 
 // The grain loops below copy the arrays' addresses into locals first: through
 // w_.particles every store of a vector (Eigen's SSE stores may alias anything) would make
 // the compiler fetch each array's address again (see PairPass).
 
-// A step's opening half in a loop of its own (dem::DriftPass): the half kick by h and the
-// drift by h_drift.
+// v += h a, w += h alpha: the half kicks. Gravity enters as an acceleration here.
 template <int D>
-dem::DriftMax DemSolver<D>::kick_drift(double h, double h_drift) {
-  const dem::DriftPass<D> pass = drift_pass(h, h_drift);
-  const auto n = static_cast<std::ptrdiff_t>(w_.particles.size());
-  dem::DriftMax moved;
-#pragma omp parallel for schedule(static) reduction(drift_max : moved) if (n >= kMinParallelItems)
-  for (std::ptrdiff_t k = 0; k < n; ++k) pass.grain(static_cast<std::size_t>(k), moved);
-  return pass.settle(moved);
+void DemSolver<D>::kick(double h) {
+  kick_drift(h, 0.0);
 }
 
+// A half kick by h, then (h_drift > 0) a drift by h_drift, in one loop over the grains: the
+// two are the first phase of every step, and one pass reads each grain's velocity once
+// instead of twice. Per grain the operations are those of a kick then a drift.
 template <int D>
-dem::DriftPass<D> DemSolver<D>::drift_pass(double h, double h_drift) {
+void DemSolver<D>::kick_drift(double h, double h_drift) {
+  using S = Space<D>;
   auto& p = w_.particles;
-  const auto& build_ref = w_.neighbors.x_ref;
-  const auto& near_ref = near_.reference();
-  return {p.x.data(),
-          p.v.data(),
-          p.q.data(),
-          p.w.data(),
-          p.f.data(),
-          p.t.data(),
-          p.inv_mass.data(),
-          p.inv_inertia.data(),
-          build_ref.size() == p.size() ? build_ref.data() : nullptr,
-          near_ref.size() == p.size() ? near_ref.data() : nullptr,
-          w_.gravity,
-          h,
-          h_drift,
-          w_.viscous_rate > 0.0 ? 1.0 / (1.0 + w_.viscous_rate * h) : 1.0,
-          w_.track_orientation};
+  const auto g = w_.gravity;
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+  typename S::Vec* const x = p.x.data();
+  typename S::Orientation* const q = p.q.data();
+  typename S::Vec* const v = p.v.data();
+  typename S::Rot* const w = p.w.data();
+  const typename S::Vec* const f = p.f.data();
+  const typename S::Rot* const t = p.t.data();
+  const double* const inv_mass = p.inv_mass.data();
+  const double* const inv_inertia = p.inv_inertia.data();
+  // Background damping -m nu v, -I nu w, taken implicitly (v_new feels it): stable for any nu h.
+  const double keep = w_.viscous_rate > 0.0 ? 1.0 / (1.0 + w_.viscous_rate * h) : 1.0;
+  const bool drifting = h_drift > 0.0, turning = drifting && w_.track_orientation;
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+  for (std::ptrdiff_t kk = 0; kk < n; ++kk) {
+    const auto k = static_cast<std::size_t>(kk);
+    if (inv_mass[k] == 0.0) continue;
+    v[k] += h * (f[k] * inv_mass[k] + g);
+    w[k] += h * inv_inertia[k] * t[k];
+    if (keep != 1.0) {
+      v[k] *= keep;
+      w[k] *= keep;
+    }
+    if (drifting) x[k] += h_drift * v[k];
+    if (turning) q[k] = S::rotate(q[k], w[k], h_drift);
+  }
 }
 
 // Forces so that the result does not depend on the number of threads:
 //   1. per contact of the near list (the candidates that can touch now, see
 //      dem/near_list.hpp): the force on its first grain, written into the contact's own slot
 //      together with n x F and the overlap (for the torques), and in the dry pass added to
-//      its grains' sums as it goes (dry_forces: one block of grains per thread);
-//   2. per wall contact, its force in its slot (WallPass);
-//   3. per grain (GrainPass::finish): for the grains the pass did not sum, the sum of its
-//      contacts' forces and torques, in the same order (second-member pairs, first-member
-//      pairs, wall pairs, by ascending index); with h_kick > 0 the closing half kick, and
-//      the guard on the grain's state (false returned if some grain fails it).
+//      its grains' sums as it goes (pair_forces: one block of grains per thread);
+//   2. per grain (in parallel), for the grains the pass did not sum (accumulate): the sum of
+//      its contacts' forces and torques, in the same order (second-member pairs,
+//      first-member pairs, wall pairs, by ascending index).
 // No atomics, no per-thread force copies, and no race: each thread writes only its own items.
-// near_moved2: the grains' largest squared displacement since the near list's remake, if
-// known (< 0: measured here).
 template <int D>
-bool DemSolver<D>::forces(double near_moved2, double h_kick) {
+void DemSolver<D>::compute_forces() {
   auto& nl = w_.neighbors;
   nl.update_incidence(w_.particles.size());
-  fit_scratch();
+  if (scratch_build_ != nl.builds || pair_delta_.size() != nl.pairs.size() ||
+      wall_delta_.size() != nl.wall_pairs.size()) {
+    // The lists were rebuilt (or come from a snapshot): the scratch is indexed by list entry,
+    // so it starts again from "apart" (-1 marks entries whose stored force must be cleared
+    // if they are apart, since they may carry a force from before the rebuild).
+    pair_moment_.assign(nl.pairs.size(), Space<D>::zero_rot());
+    pair_delta_.assign(nl.pairs.size(), -1.0);
+    wall_moment_.assign(nl.wall_pairs.size(), Space<D>::zero_rot());
+    wall_delta_.assign(nl.wall_pairs.size(), -1.0);
+    pair_event_.assign(nl.bridges ? nl.pairs.size() : 0, 0);
+    pair_roll_.assign(nl.rolling ? nl.pairs.size() : 0, Space<D>::zero_rot());
+    wall_roll_.assign(nl.rolling ? nl.wall_pairs.size() : 0, Space<D>::zero_rot());
+    scratch_build_ = nl.builds;
+  }
   diag_ = StepDiagnostics{};
   const bool wet = nl.bridges && nl.pairs.bridge.size() == nl.pairs.size();
   const bool rolling = w_.model.rolling != RollingModel::kNone;
   if (rolling) prepare_rolling(wet);
-  refresh_near(near_moved2, wet, rolling);
-  gathered_.resize(w_.particles.size());
-  const dem::GrainPass<D> grains = grain_pass(wet, h_kick);
-  const bool hertz = w_.model.normal == NormalModel::kHertz;
-  bool sound = true;
-  if (wet)
-    sound = hertz ? wet_forces<HertzNormal>(grains) : wet_forces<LinearNormal>(grains);
-  else if (rolling)
-    sound = hertz ? dry_forces<HertzNormal, true>(grains) : dry_forces<LinearNormal, true>(grains);
-  else
-    sound =
-        hertz ? dry_forces<HertzNormal, false>(grains) : dry_forces<LinearNormal, false>(grains);
-  sum_wall_forces();
-  return sound;
-}
-
-// The scratch is indexed by list entry: after a rebuild (or a snapshot's lists) it starts
-// again from "apart" (-1 marks entries whose stored force must be cleared if they are apart,
-// since they may carry a force from before the rebuild).
-template <int D>
-void DemSolver<D>::fit_scratch() {
-  const auto& nl = w_.neighbors;
-  if (scratch_build_ == nl.builds && pair_delta_.size() == nl.pairs.size() &&
-      wall_delta_.size() == nl.wall_pairs.size())
-    return;
-  pair_moment_.assign(nl.pairs.size(), Space<D>::zero_rot());
-  pair_delta_.assign(nl.pairs.size(), -1.0);
-  wall_moment_.assign(nl.wall_pairs.size(), Space<D>::zero_rot());
-  wall_delta_.assign(nl.wall_pairs.size(), -1.0);
-  pair_event_.assign(nl.bridges ? nl.pairs.size() : 0, 0);
-  pair_roll_.assign(nl.rolling ? nl.pairs.size() : 0, Space<D>::zero_rot());
-  wall_roll_.assign(nl.rolling ? nl.wall_pairs.size() : 0, Space<D>::zero_rot());
-  scratch_build_ = nl.builds;
-}
-
-// Remake the near list if it is stale. An entry left out is apart: cleared as the force pass
-// would have.
-template <int D>
-void DemSolver<D>::refresh_near(double near_moved2, bool wet, bool rolling) {
-  auto scope = timers_.time(Phase::kNeighbors);
-  auto& nl = w_.neighbors;
-  const auto& p = w_.particles;
-  const bool stale =
-      near_moved2 >= 0.0 ? near_.stale_after(near_moved2, p, nl, wet) : near_.stale(p, nl, wet);
-  if (stale) {
-    near_.remake(p, nl, w_.dt, wet, [&](std::size_t k) {
-      dem::forget_if_ended(nl.pairs.shear.data(), nl.pairs.force.data(), pair_moment_.data(),
-                           pair_delta_.data(), k, Space<D>::zero_rot());
-      if (rolling) {
-        nl.pairs.roll[k] = Space<D>::zero_rot();
-        pair_roll_[k] = Space<D>::zero_rot();
-      }
-    });
+  {
+    auto scope = timers_.time(Phase::kNeighbors);
+    if (near_.stale(w_.particles, nl, wet)) {
+      // An entry left out is apart: clear it as the force pass would have.
+      near_.remake(w_.particles, nl, w_.dt, wet, [&](std::size_t k) {
+        forget_if_ended(nl.pairs.shear.data(), nl.pairs.force.data(), pair_moment_.data(),
+                        pair_delta_.data(), k, Space<D>::zero_rot());
+        if (rolling) {
+          nl.pairs.roll[k] = Space<D>::zero_rot();
+          pair_roll_[k] = Space<D>::zero_rot();
+        }
+      });
+    }
+    diag_.near_remakes = near_.remakes;
   }
-  diag_.near_remakes = near_.remakes;
+  const bool hertz = w_.model.normal == NormalModel::kHertz;
+  {
+    auto scope = timers_.time(Phase::kForces);
+    if (wet)
+      hertz ? wet_pair_forces<HertzNormal>() : wet_pair_forces<LinearNormal>();
+    else if (rolling)
+      hertz ? pair_forces<HertzNormal, true>() : pair_forces<LinearNormal, true>();
+    else
+      hertz ? pair_forces<HertzNormal, false>() : pair_forces<LinearNormal, false>();
+  }
+  if (wet) settle_liquid();
+  {
+    auto scope = timers_.time(Phase::kWallForces);
+    hertz ? wall_forces<HertzNormal>() : wall_forces<LinearNormal>();
+    accumulate(wet);
+  }
 }
 
 // Before a pass with rolling resistance: each grain's 1 / (I + m R^2), once per step rather
@@ -191,8 +198,155 @@ void DemSolver<D>::prepare_rolling(bool wet) {
     inv_ic[g] = inverse_inertia_at_contact(p.inv_inertia[g], p.mass[g], p.radius[g]);
 }
 
+// What the grain-pair passes read and write, as raw pointers and plain copies taken once per
+// pass. Reached through `this` and std::vector instead, every store of a force (Eigen's SSE
+// stores may alias anything) makes the compiler fetch each array's address again: 4 % more
+// instructions in the pass (cachegrind, docs/BENCHMARKS.md). Each thread works on its own
+// copy (firstprivate).
 template <int D>
-dem::PairPass<D> DemSolver<D>::pair_pass() {
+struct DemSolver<D>::PairPass {
+  using S = Space<D>;
+  using Vec = typename S::Vec;
+  using Rot = typename S::Rot;
+  const Vec *x, *v;
+  const Rot* w;
+  const double *radius, *inv_mass;
+  const MaterialIndex* material;
+  const std::uint32_t *i, *j;
+  Vec *shear, *force;
+  Rot* moment;
+  double* delta;
+  // The dry pass adds forces and torques to grains as it goes (see pair_forces), except to
+  // the grains flagged `gathered`, which accumulate() sums from the contacts' slots.
+  Vec* grain_force;
+  Rot* grain_torque;
+  std::uint8_t* gathered;
+  const std::uint32_t *second_begin, *second_pairs;
+  PairTableView materials;
+  ContactModel model;
+  double dt;
+  // Rolling resistance only (pair_forces<Normal, true>): the springs, each contact's couple on
+  // its first grain (for the gather), and each grain's 1 / (I + m R^2).
+  Rot *roll, *couple;
+  const double* inv_ic;
+
+  template <bool Roll = false>
+  void forget(std::size_t k) const {
+    if (delta[k] == 0.0) return;  // apart already: everything is zero
+    if constexpr (Roll) {
+      roll[k] = S::zero_rot();
+      couple[k] = S::zero_rot();
+    }
+    forget_if_ended(shear, force, moment, delta, k, S::zero_rot());
+  }
+
+  // The rolling couple of touching pair k on grain a (contact/rolling.hpp), from the force
+  // pass's geometry and force; stored for the gather.
+  template <class Normal>
+  [[gnu::always_inline]] Rot rolling_couple(std::size_t k, std::uint32_t a, std::uint32_t b,
+                                            const ContactGeometry<D>& g, const PairParams& pp,
+                                            const Vec& f) const {
+    Rot m = S::zero_rot();
+    if (pp.rolling_friction == 0.0) {
+      roll[k] = m;
+    } else {
+      const RollingCoeffs c = rolling_coeffs(pp.rolling_friction, model.rolling_damping, g.r_eff,
+                                             Normal::stiffness(pp, model, g.delta, g.r_eff),
+                                             f.dot(g.n), inv_ic[a], inv_ic[b]);
+      m = rolling_moment<D>(g.n, Rot(w[a] - w[b]), c, dt, roll[k]);
+    }
+    couple[k] = m;
+    return m;
+  }
+
+  // Grains [g0, g1) are this thread's: zero their sums, and flag those that are the second
+  // member of an entry whose first member is another thread's (below g0): another thread
+  // would add to them, in a race and out of order, so they are gathered instead.
+  void own(std::uint32_t g0, std::uint32_t g1) const {
+    for (std::uint32_t g = g0; g < g1; ++g) {
+      grain_force[g] = S::zero();
+      grain_torque[g] = S::zero_rot();
+      gathered[g] = second_begin[g] < second_begin[g + 1] && i[second_pairs[second_begin[g]]] < g0;
+    }
+  }
+
+  // The force of touching pair k (centre offset d = x_i - x_j, |d|^2 = dist2 < rsum^2), with
+  // `cohesion` (<= 0) added to its normal force, stored in the pair's slots (n x F only where
+  // accumulate() will read it: `How`), and summed per grain as `How` says; raises max_ratio
+  // to the overlap over the smaller radius. Shared by the dry and the wet passes.
+  template <class Normal, Sum How = Sum::kGather, bool Roll = false>
+  [[gnu::always_inline]] void touch(std::size_t k, const Vec& d, double dist2, double rsum,
+                                    double cohesion, double& max_ratio) const {
+    const std::uint32_t a = i[k], b = j[k];
+    const double dist = std::sqrt(dist2);
+    ContactGeometry<D> g;
+    g.n = d * (1.0 / dist);  // one division, not three
+    g.delta = rsum - dist;
+    // Lever arms from each centre to the middle of the overlap: -(R_i - delta/2) n for i,
+    // +(R_j - delta/2) n for j, so the contact points' velocity difference is
+    // v_i - v_j - ((R_i - delta/2) w_i + (R_j - delta/2) w_j) x n: one cross product.
+    const double lever_i = radius[a] - 0.5 * g.delta, lever_j = radius[b] - 0.5 * g.delta;
+    g.vrel = v[a] - v[b] - S::spin_velocity(lever_i * w[a] + lever_j * w[b], g.n);
+    g.r_eff = radius[a] * radius[b] / rsum;
+    g.m_eff = 1.0 / (inv_mass[a] + inv_mass[b]);
+    const PairParams& pp = materials(material[a], material[b]);
+    const Vec f = contact_force<D, Normal>(g, pp, model, dt, shear[k], cohesion);
+    force[k] = f;
+    delta[k] = g.delta;
+    const Rot m = S::moment(g.n, f);
+    Rot c = S::zero_rot();  // the rolling couple on a (b gets -c)
+    if constexpr (Roll) c = rolling_couple<Normal>(k, a, b, g, pp, f);
+    if constexpr (How == Sum::kScatter) {
+      // Term for term as accumulate() would add them (see there for the torques).
+      grain_force[a] += f;
+      grain_torque[a] -= lever_i * m;
+      if constexpr (Roll) grain_torque[a] += c;
+      grain_force[b] -= f;
+      grain_torque[b] -= lever_j * m;
+      if constexpr (Roll) grain_torque[b] -= c;
+    } else if constexpr (How == Sum::kScatterChecked) {
+      if (!gathered[a]) {
+        grain_force[a] += f;
+        grain_torque[a] -= lever_i * m;
+        if constexpr (Roll) grain_torque[a] += c;
+      }
+      if (!gathered[b]) {
+        grain_force[b] -= f;
+        grain_torque[b] -= lever_j * m;
+        if constexpr (Roll) grain_torque[b] -= c;
+      }
+      if (gathered[a] | gathered[b]) moment[k] = m;
+    } else {
+      moment[k] = m;
+    }
+    const double r_min = std::min(radius[a], radius[b]);
+    if (g.delta > max_ratio * r_min) max_ratio = g.delta / r_min;
+  }
+
+  // The dry pass over near-list entries [m0, m1) (see pair_forces). Flattened: left to its
+  // heuristics, GCC keeps some of Eigen's vector operations out of line here once the
+  // translation unit holds a little more code, and the pass then takes 14 % more instructions
+  // (cachegrind, docs/BENCHMARKS.md).
+  template <class Normal, Sum How, bool Roll>
+  [[gnu::flatten]] void entries(const std::uint32_t* near, std::uint32_t m0, std::uint32_t m1,
+                                double& max_ratio, std::size_t& touching) const {
+    for (std::uint32_t m = m0; m < m1; ++m) {
+      const std::size_t k = near[m];
+      const Vec d = x[i[k]] - x[j[k]];
+      const double rsum = radius[i[k]] + radius[j[k]];
+      const double dist2 = d.squaredNorm();
+      if (dist2 >= rsum * rsum) {
+        forget<Roll>(k);
+        continue;
+      }
+      touch<Normal, How, Roll>(k, d, dist2, rsum, 0.0, max_ratio);
+      ++touching;
+    }
+  }
+};
+
+template <int D>
+typename DemSolver<D>::PairPass DemSolver<D>::pair_pass() {
   auto& p = w_.particles;
   auto& pl = w_.neighbors.pairs;
   return {p.x.data(),
@@ -220,64 +374,26 @@ dem::PairPass<D> DemSolver<D>::pair_pass() {
           roll_inv_ic_.data()};
 }
 
-template <int D>
-dem::GrainPass<D> DemSolver<D>::grain_pass(bool all, double h_kick) {
-  auto& p = w_.particles;
-  const auto& nl = w_.neighbors;
-  const double keep = w_.viscous_rate > 0.0 ? 1.0 / (1.0 + w_.viscous_rate * h_kick) : 1.0;
-  return {p.f.data(),
-          p.v.data(),
-          p.t.data(),
-          p.w.data(),
-          p.radius.data(),
-          p.inv_mass.data(),
-          p.inv_inertia.data(),
-          near_.index.data(),
-          near_.first_begin.data(),
-          near_.second_begin.data(),
-          near_.second_pairs.data(),
-          nl.wall_begin.data(),
-          nl.pairs.force.data(),
-          nl.wall_pairs.force.data(),
-          pair_moment_.data(),
-          wall_moment_.data(),
-          pair_roll_.data(),
-          wall_roll_.data(),
-          pair_delta_.data(),
-          wall_delta_.data(),
-          gathered_.data(),
-          all,
-          w_.model.rolling != RollingModel::kNone,
-          h_kick,
-          keep,
-          w_.max_speed,
-          w_.gravity};
-}
-
-// The dry pass, in one parallel region with the wall contacts and the grains' last loop. Each
-// thread takes a contiguous block of grains, about an equal share of the near list, and the
-// entries whose first member is one of them (the list is sorted by first member). It adds
-// each contact's force and torque to the two grains as it goes, in list order; a grain's
-// terms come in the order GrainPass::finish sums them (second-member entries, whose first
-// member is smaller, then first-member ones), so the sums are the same bits for any number of
-// threads. Only the grains another thread's entries reach (flagged in own(); none on one
-// thread, a few % on two) are left to finish(). Gathering every grain's sum afterwards cost
-// 15 % of the step (perf, docs/BENCHMARKS.md).
+// The dry pass. Each thread takes a contiguous block of grains, about an equal share of the
+// near list, and the entries whose first member is one of them (the list is sorted by first
+// member). It adds each contact's force and torque to the two grains as it goes, in list
+// order; a grain's terms come in the order accumulate() sums them (second-member entries,
+// whose first member is smaller, then first-member ones), so the sums are the same bits for
+// any number of threads. Only the grains another thread's entries reach (flagged in own();
+// none on one thread, a few % on two) are left to accumulate(). Gathering every grain's sum
+// afterwards cost 15 % of the step (perf, docs/BENCHMARKS.md).
 template <int D>
 template <class Normal, bool Roll>
-bool DemSolver<D>::dry_forces(const dem::GrainPass<D>& grains) {
-  dem::PairPass<D> pass = pair_pass();
+void DemSolver<D>::pair_forces() {
+  gathered_.resize(w_.particles.size());
+  PairPass pass = pair_pass();
   const std::uint32_t* const near = near_.index.data();
   const std::uint32_t* const first_begin = near_.first_begin.data();
-  // A team if any of the region's loops is long: the pairs, or the grains (a dilute flow).
-  const auto items = static_cast<std::ptrdiff_t>(
-      std::max({near_.index.size(), w_.particles.size(), w_.neighbors.wall_pairs.size()}));
+  const auto n_near = static_cast<std::ptrdiff_t>(near_.index.size());
   double max_ratio = 0.0;
   std::size_t touching = 0;
-  int bad = 0;
-  PhaseTimers::Laps laps(timers_);
 #pragma omp parallel firstprivate(pass) reduction(max : max_ratio) reduction(+ : touching) \
-    reduction(| : bad) if (items >= kMinParallelItems)
+    if (n_near >= kMinParallelItems)
   {
     const int threads = omp_get_num_threads();
 #pragma omp single
@@ -289,18 +405,14 @@ bool DemSolver<D>::dry_forces(const dem::GrainPass<D>& grains) {
 #pragma omp barrier
     // One thread: no grain is gathered, and the flags need not be read.
     if (threads == 1)
-      pass.template entries<Normal, dem::Sum::kScatter, Roll>(near, first_begin[g0],
-                                                              first_begin[g1], max_ratio, touching);
+      pass.template entries<Normal, Sum::kScatter, Roll>(near, first_begin[g0], first_begin[g1],
+                                                         max_ratio, touching);
     else
-      pass.template entries<Normal, dem::Sum::kScatterChecked, Roll>(
+      pass.template entries<Normal, Sum::kScatterChecked, Roll>(
           near, first_begin[g0], first_begin[g1], max_ratio, touching);
-#pragma omp barrier
-    if (t == 0) laps.charge(Phase::kForces);
-    finish_in_team<Normal, Roll>(grains, laps, max_ratio, touching, bad);
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
   diag_.touching += touching;
-  return bad == 0;
 }
 
 // Blocks of grains for `threads` threads, each with about an equal share of the near list.
@@ -319,31 +431,7 @@ void DemSolver<D>::split_grains(int threads) {
   }
 }
 
-// The wet step's passes: the grain pairs (with their own loop), the liquid, then the wall
-// contacts and every grain's sum in one parallel region.
-template <int D>
-template <class Normal>
-bool DemSolver<D>::wet_forces(const dem::GrainPass<D>& grains) {
-  {
-    auto scope = timers_.time(Phase::kForces);
-    wet_pair_forces<Normal>();
-  }
-  settle_liquid();
-  const auto items =
-      static_cast<std::ptrdiff_t>(std::max(w_.particles.size(), w_.neighbors.wall_pairs.size()));
-  double max_ratio = 0.0;
-  std::size_t touching = 0;
-  int bad = 0;
-  PhaseTimers::Laps laps(timers_);
-#pragma omp parallel reduction(max : max_ratio) reduction(+ : touching) reduction(| : bad) \
-    if (items >= kMinParallelItems)
-  finish_in_team<Normal, false>(grains, laps, max_ratio, touching, bad);
-  diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
-  diag_.touching += touching;
-  return bad == 0;
-}
-
-// The grain-pair pass with capillary bridges. As the dry pass, plus: a bridged pair that has
+// The grain-pair pass with capillary bridges. As pair_forces, plus: a bridged pair that has
 // separated feels the bridge's attraction until its gap exceeds the rupture distance; a
 // touching pair gets the contact attraction -kappa R, and a bridge if it had none (formation
 // is only recorded here; the liquid moves in settle_liquid, in list order, so the result does
@@ -357,7 +445,7 @@ void DemSolver<D>::wet_pair_forces() {
   const CapillaryParams& cap = w_.model.capillary;
   const double kappa = Capillary::kappa(cap);
   const bool forming = w_.liquid.wet();
-  dem::PairPass<D> pass = pair_pass();
+  PairPass pass = pair_pass();
   const std::uint32_t* const near = near_.index.data();  // every entry: a wet run keeps all
   const auto n_near = static_cast<std::ptrdiff_t>(near_.index.size());
   double max_ratio = 0.0;
@@ -435,63 +523,133 @@ void DemSolver<D>::settle_liquid() {
   events_ = 0;
 }
 
-// The end of the force pass, run by every thread of the caller's parallel region (the loops
-// are shared out by orphaned `omp for`; each thread's max_ratio, touching and bad are its own,
-// reduced by the region): the wall contacts, then (after the loop's barrier: every slot is
-// written) each grain's sum and closing kick. Thread 0 times the two phases. The views are
-// copied and the counters kept in locals: through references, every store of a vector
-// (Eigen's SSE stores may alias anything) would make the compiler reload the pointers and
-// store the counters.
 template <int D>
-template <class Normal, bool Roll>
-[[gnu::flatten]] void DemSolver<D>::finish_in_team(const dem::GrainPass<D>& grains,
-                                                   PhaseTimers::Laps& laps, double& max_ratio,
-                                                   std::size_t& touching, int& bad) {
-  const bool timing = omp_get_thread_num() == 0;
-  const dem::WallPass<D> walls = wall_pass();
-  const auto n_walls = static_cast<std::ptrdiff_t>(w_.neighbors.wall_pairs.size());
-  double ratio = 0.0;
-  std::size_t count = 0;
-  // Dynamic: the list is sorted by grain, and the touching contacts (the costly ones)
-  // cluster where the grains lie on a wall; a static split left one thread most of them.
-#pragma omp for schedule(dynamic, 128)
-  for (std::ptrdiff_t k = 0; k < n_walls; ++k)
-    walls.template entry<Normal, Roll>(static_cast<std::size_t>(k), ratio, count);
-  max_ratio = std::max(max_ratio, ratio);
-  touching += count;
-  if (timing) laps.charge(Phase::kWallForces);
-  const dem::GrainPass<D> local = grains;
-  const auto n = static_cast<std::ptrdiff_t>(w_.particles.size());
-  int failed = 0;
-#pragma omp for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i)
-    failed |= local.finish(static_cast<std::size_t>(i)) ? 0 : 1;
-  bad |= failed;
-  if (timing) laps.charge(Phase::kIntegrate);
-}
-
-template <int D>
-dem::WallPass<D> DemSolver<D>::wall_pass() {
-  auto& p = w_.particles;
+template <class Normal>
+void DemSolver<D>::wall_forces() {
+  using S = Space<D>;
+  const auto& p = w_.particles;
   auto& wl = w_.neighbors.wall_pairs;
-  return {p.x.data(),         p.v.data(),
-          p.w.data(),         p.radius.data(),
-          p.mass.data(),      p.material.data(),
-          wl.i.data(),        wl.wall.data(),
-          w_.walls.data(),    wl.shear.data(),
-          wl.force.data(),    wall_moment_.data(),
-          wall_delta_.data(), w_.materials.pair_view(),
-          w_.model,           w_.dt,
-          wl.roll.data(),     wall_roll_.data(),
-          roll_inv_ic_.data()};
+  const double dt = w_.dt;
+  const bool rolling = w_.model.rolling != RollingModel::kNone;
+  const auto n_pairs = static_cast<std::ptrdiff_t>(wl.size());
+  double max_ratio = 0.0;
+  std::size_t touching = 0;
+  // Static, like the grain loops, so that each thread keeps to its own half of the grains. A
+  // dynamic split balanced the touching contacts better (this loop ran twice as fast on two
+  // threads) but made the whole step 5-7 % slower whenever the VM ran slow, which the
+  // static split does not (docs/BENCHMARKS.md, tenth session).
+#pragma omp parallel for schedule(static) reduction(max : max_ratio) reduction(+ : touching) \
+    if (n_pairs >= kMinParallelItems)
+  for (std::ptrdiff_t kk = 0; kk < n_pairs; ++kk) {
+    const auto k = static_cast<std::size_t>(kk);
+    const std::uint32_t i = wl.i[k];
+    const Wall<D>& wall = w_.walls[wl.wall[k]];
+    ContactGeometry<D> g;
+    const double dist = wall.distance(p.x[i], g.n);
+    g.delta = p.radius[i] - dist;
+    if (g.delta <= 0.0) {
+      if (rolling && wall_delta_[k] != 0.0) {
+        wl.roll[k] = S::zero_rot();
+        wall_roll_[k] = S::zero_rot();
+      }
+      forget_if_ended(wl.shear.data(), wl.force.data(), wall_moment_.data(), wall_delta_.data(), k,
+                      S::zero_rot());
+      continue;
+    }
+    // The lever arm is -(R_i - delta/2) n (see PairPass::touch).
+    g.vrel = p.v[i] - wall.velocity - S::spin_velocity((p.radius[i] - 0.5 * g.delta) * p.w[i], g.n);
+    g.r_eff = p.radius[i];
+    g.m_eff = p.mass[i];
+    const PairParams& pp = w_.materials.pair(p.material[i], wall.material);
+    const typename S::Vec f = contact_force<D, Normal>(g, pp, w_.model, dt, wl.shear[k]);
+    wl.force[k] = f;
+    wall_moment_[k] = S::moment(g.n, f);
+    wall_delta_[k] = g.delta;
+    if (rolling) {  // the wall does not turn: the relative spin is the grain's
+      typename S::Rot c = S::zero_rot();
+      if (pp.rolling_friction != 0.0) {
+        const RollingCoeffs rc = rolling_coeffs(
+            pp.rolling_friction, w_.model.rolling_damping, g.r_eff,
+            Normal::stiffness(pp, w_.model, g.delta, g.r_eff), f.dot(g.n), roll_inv_ic_[i], 0.0);
+        c = rolling_moment<D>(g.n, p.w[i], rc, dt, wl.roll[k]);
+      } else {
+        wl.roll[k] = c;
+      }
+      wall_roll_[k] = c;
+    }
+    max_ratio = std::max(max_ratio, g.delta / p.radius[i]);
+    ++touching;
+  }
+  diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
+  diag_.touching += touching;
 }
 
-// Each wall's force: a short sequential sum over the wall list, in list order (deterministic).
+// Pass 2: each grain's sum, from its contacts' slots, for every grain (`all`: the wet pass)
+// or only those the dry pass left (`gathered_`); the others get their walls' terms added to
+// the pass's sums. The torque of force F at lever arm -(R - delta/2) n is
+// -(R - delta/2) (n x F) for the first grain; the second grain gets -F at +(R - delta/2) n:
+// the same sign, its own R. A grain's terms are summed in list order: the entries where it
+// is the second member (their first member has a smaller index, so they come first in the
+// list), then those where it is the first, then its walls; the dry pass meets them in that
+// order too, so either way the bits are the same.
 template <int D>
-void DemSolver<D>::sum_wall_forces() {
-  const auto& wl = w_.neighbors.wall_pairs;
+void DemSolver<D>::accumulate(bool all) {
+  using S = Space<D>;
+  auto& p = w_.particles;
+  const auto& nl = w_.neighbors;
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+  typename S::Vec* const force = p.f.data();
+  typename S::Rot* const torque = p.t.data();
+  const double* const radius = p.radius.data();
+  const std::uint32_t* const near = near_.index.data();
+  const std::uint32_t* const first_begin = near_.first_begin.data();
+  const std::uint32_t* const second_begin = near_.second_begin.data();
+  const std::uint32_t* const second_pairs = near_.second_pairs.data();
+  const std::uint32_t* const wall_begin = nl.wall_begin.data();
+  const typename S::Vec* const pair_force = nl.pairs.force.data();
+  const typename S::Rot* const pair_moment = pair_moment_.data();
+  const double* const pair_delta = pair_delta_.data();
+  const typename S::Vec* const wall_force = nl.wall_pairs.force.data();
+  const typename S::Rot* const wall_moment = wall_moment_.data();
+  const double* const wall_delta = wall_delta_.data();
+  const std::uint8_t* const gathered = gathered_.data();
+  // Rolling resistance: each contact's couple follows its force's torque (+ on the first
+  // grain, - on the second), as the dry pass adds them.
+  const bool rolling = w_.model.rolling != RollingModel::kNone;
+  const typename S::Rot* const pair_roll = pair_roll_.data();
+  const typename S::Rot* const wall_roll = wall_roll_.data();
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+  for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    const bool full = all || gathered[i];
+    if (!full && wall_begin[i] == wall_begin[i + 1]) continue;  // the pass's sum is final
+    typename S::Vec f = full ? S::zero() : force[i];
+    typename S::Rot t = full ? S::zero_rot() : torque[i];
+    const double r = radius[i];
+    for (std::uint32_t s = second_begin[i]; full && s < second_begin[i + 1]; ++s) {
+      const std::uint32_t k = second_pairs[s];
+      f -= pair_force[k];
+      t -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
+      if (rolling) t -= pair_roll[k];
+    }
+    for (std::uint32_t m = first_begin[i]; full && m < first_begin[i + 1]; ++m) {
+      const std::uint32_t k = near[m];
+      f += pair_force[k];
+      t -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
+      if (rolling) t += pair_roll[k];
+    }
+    for (std::uint32_t k = wall_begin[i]; k < wall_begin[i + 1]; ++k) {
+      f += wall_force[k];
+      t -= (r - 0.5 * wall_delta[k]) * wall_moment[k];
+      if (rolling) t += wall_roll[k];
+    }
+    force[i] = f;
+    torque[i] = t;
+  }
+  // Walls: a short sequential sum in list order (deterministic).
   for (auto& wall : w_.walls) wall.force.setZero();
-  for (std::size_t k = 0; k < wl.size(); ++k) w_.walls[wl.wall[k]].force -= wl.force[k];
+  for (std::size_t k = 0; k < nl.wall_pairs.size(); ++k)
+    w_.walls[nl.wall_pairs.wall[k]].force -= nl.wall_pairs.force[k];
 }
 
 template class DemSolver<2>;

@@ -2,7 +2,6 @@
 #pragma once
 
 #include "sable/dem/near_list.hpp"
-#include "sable/dem/passes.hpp"
 #include "sable/world/solver.hpp"
 #include "sable/world/world.hpp"
 
@@ -19,28 +18,21 @@ class DemSolver final : public Solver {
   const PhaseTimers& timers() const override { return timers_; }
 
   // Forces and torques at the current positions and velocities (also updates contact history).
-  void compute_forces() { forces(-1.0, 0.0); }
+  void compute_forces();
 
  private:
-  dem::DriftMax kick_drift(double h, double h_drift);
-  dem::DriftPass<D> drift_pass(double h, double h_drift);
-  bool forces(double near_moved2, double h_kick);
-  void fit_scratch();
-  void refresh_near(double near_moved2, bool wet, bool rolling);
-  dem::PairPass<D> pair_pass();
-  dem::WallPass<D> wall_pass();
-  dem::GrainPass<D> grain_pass(bool all, double h_kick);
+  void kick(double h);
+  void kick_drift(double h, double h_drift);
   template <class Normal, bool Roll>
-  bool dry_forces(const dem::GrainPass<D>& grains);
+  void pair_forces();
   void split_grains(int threads);
   template <class Normal>
-  bool wet_forces(const dem::GrainPass<D>& grains);
-  template <class Normal>
   void wet_pair_forces();
-  template <class Normal, bool Roll>
-  void finish_in_team(const dem::GrainPass<D>& grains, PhaseTimers::Laps& laps, double& max_ratio,
-                      std::size_t& touching, int& bad);
-  void sum_wall_forces();
+  struct PairPass;
+  PairPass pair_pass();
+  template <class Normal>
+  void wall_forces();
+  void accumulate(bool all);
   void prepare_rolling(bool wet);
   void settle_liquid();
 
@@ -48,11 +40,11 @@ class DemSolver final : public Solver {
   StepDiagnostics diag_;
   PhaseTimers timers_;
   // Per-contact scratch of the force pass (n x F and overlap), read by the accumulation pass.
-  // n x F is written only for the contacts GrainPass::finish reads (every one in wet runs; in dry
+  // n x F is written only for the contacts accumulate() reads (every one in wet runs; in dry
   // runs those of gathered grains): elsewhere it may be stale. Apart entries hold zeros.
   std::vector<typename Space<D>::Rot> pair_moment_, wall_moment_;
   std::vector<double> pair_delta_, wall_delta_;  // 0 apart, > 0 overlap, -1 unknown
-  // Rolling resistance only: each contact's couple on its first grain (read by GrainPass::finish
+  // Rolling resistance only: each contact's couple on its first grain (read by accumulate()
   // like n x F; apart entries hold zeros), and per grain 1 / (I + m R^2).
   std::vector<typename Space<D>::Rot> pair_roll_, wall_roll_;
   std::vector<double> roll_inv_ic_;

@@ -48,11 +48,6 @@ class NearList {
   // True when the near list no longer holds every pair that can touch: the neighbour list
   // was rebuilt since, the grains changed, or some grain moved half an inner skin.
   bool stale(const ParticleStore<D>& p, const NeighborList<D>& nl, bool keep_all) const;
-  // The same test with the grains' largest squared displacement since the remake already
-  // known (`moved2`, measured against reference()): see NeighborList::needs_rebuild_after.
-  bool stale_after(double moved2, const ParticleStore<D>& p, const NeighborList<D>& nl,
-                   bool keep_all) const;
-  const std::vector<Vec>& reference() const { return x_ref_; }  // positions at the remake
 
   // Remake from the neighbour list at the current positions; `drop(k)` for every pair entry
   // k left out, in parallel (drop(k) may touch entry k only). `dt` sizes the inner skin from

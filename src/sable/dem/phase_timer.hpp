@@ -32,22 +32,6 @@ class PhaseTimers {
     Clock::time_point start_;
   };
   Scope time(Phase p) { return Scope(*this, p); }
-  // Consecutive phases timed on one clock, for phases that share a parallel region: one
-  // thread calls charge(p) at each barrier, which adds the time since its previous call (or
-  // since the Laps was made) to phase p.
-  class Laps {
-   public:
-    explicit Laps(PhaseTimers& t) : t_(t), last_(Clock::now()) {}
-    void charge(Phase p) {
-      const Clock::time_point now = Clock::now();
-      t_.seconds_[static_cast<int>(p)] += std::chrono::duration<double>(now - last_).count();
-      last_ = now;
-    }
-
-   private:
-    PhaseTimers& t_;
-    Clock::time_point last_;
-  };
   double seconds(Phase p) const { return seconds_[static_cast<int>(p)]; }
   void reset() { seconds_.fill(0.0); }
 
