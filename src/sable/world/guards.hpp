@@ -9,32 +9,26 @@
 
 namespace sable {
 
-// A grain's state is sound: finite, and no faster than max_speed. The two halves apart for
-// the DEM step, which tests each where it has the values at hand (the position in the drift,
-// the velocities in the closing kick); other solvers through check_grain_states.
+// A grain's state is sound: finite, and no faster than max_speed; in two halves, the
+// velocities and the position.
 template <int D>
 [[gnu::always_inline]] inline bool motion_ok(const typename Space<D>::Vec& v,
                                              const typename Space<D>::Rot& w, double max_speed) {
   return v.squaredNorm() <= max_speed * max_speed && std::isfinite(Space<D>::rot_norm2(w));
 }
 
-// x - x is exactly 0 for a finite x and NaN otherwise: one branch-free test per grain, where
-// Eigen's allFinite() branches per component (16 % of the DEM step's grain loop, perf).
+// x - x is exactly 0 for a finite x and NaN otherwise: a branch-free test, where Eigen's
+// allFinite() branches per component (in a fused grain loop tried in the tenth session it
+// took 16 % of the loop's samples, docs/BENCHMARKS.md).
 template <int D>
 [[gnu::always_inline]] inline bool position_ok(const typename Space<D>::Vec& x) {
   return (x - x).squaredNorm() == 0.0;
 }
 
 template <int D>
-bool grain_state_ok(const typename Space<D>::Vec& x, const typename Space<D>::Vec& v,
-                    const typename Space<D>::Rot& w, double max_speed) {
-  return motion_ok<D>(v, w, max_speed) && position_ok<D>(x);
-}
-
-template <int D>
 bool grain_state_ok(const World<D>& w, std::size_t k) {
   const auto& p = w.particles;
-  return grain_state_ok<D>(p.x[k], p.v[k], p.w[k], w.max_speed);
+  return motion_ok<D>(p.v[k], p.w[k], w.max_speed) && position_ok<D>(p.x[k]);
 }
 
 // Throws SimulationError naming the step and the first offending grain (by stable id). The
