@@ -6,18 +6,19 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <regex>
 #include <sstream>
+#include <thread>
 
 #include "sable/analysis/analyze.hpp"
 #include "sable/analysis/sample.hpp"
 #include "sable/io/snapshot.hpp"
-#include "sable/scenario/config.hpp"
-#include "sable/scenario/runner.hpp"
 
 namespace fs = std::filesystem;
 using namespace sable;
@@ -52,25 +53,68 @@ struct Study {
   bool dem = false;
 };
 
-// Run one example scenario into `dir` (dir/seed-N for each seed) and analyse it as run.sh
-// does: the snapshots before, during and after the descent of all the seeds pooled.
-Study run_case(const std::string& name, const fs::path& dir,
-               const std::vector<std::uint64_t>& seeds) {
-  ScenarioConfig cfg = load_scenario(std::string(SABLE_SOURCE_DIR) +
-                                     "/examples/silo-janssen/silo-" + name + ".toml");
+// One example scenario run for an ensemble of seeds into `dir` (dir/seed-N for each seed).
+struct Case {
+  std::string name;  // examples/silo-janssen/silo-NAME.toml
+  fs::path dir;
+  std::vector<std::uint64_t> seeds;
+};
+
+// Run every seed of every case as examples/silo-janssen/run.sh does: each run is its own
+// `sable run` process on one thread (the results do not depend on the thread count), with
+// the scenario's seed line replaced, as many at once as there are cores. The runs share
+// nothing, and run one after the other they made this file's tests the longest of the suite
+// (9 minutes for the rolling ensembles on the project's 2-core machine, a third of CI).
+void run_all(const std::vector<Case>& cases) {
+  struct Job {
+    fs::path toml, out;
+  };
+  std::vector<Job> jobs;
+  for (const Case& c : cases) {
+    const std::string text = read(fs::path(SABLE_SOURCE_DIR) / "examples" / "silo-janssen" /
+                                  ("silo-" + c.name + ".toml"));
+    const std::regex seed_line("^seed = .*$", std::regex::multiline);
+    ASSERT_EQ(std::distance(std::sregex_iterator(text.begin(), text.end(), seed_line),
+                            std::sregex_iterator()),
+              1)
+        << c.name << ": expected one line 'seed = N' (the scenario's [simulation] seed)";
+    fs::create_directories(c.dir);
+    for (const std::uint64_t seed : c.seeds) {
+      const fs::path run = c.dir / ("seed-" + std::to_string(seed));
+      std::ofstream(run.string() + ".toml")
+          << std::regex_replace(text, seed_line, "seed = " + std::to_string(seed));
+      jobs.push_back({run.string() + ".toml", run});
+    }
+  }
+  ASSERT_TRUE(fs::exists(SABLE_CLI)) << SABLE_CLI << " not built";
+  std::atomic<std::size_t> next{0};
+  std::vector<int> status(jobs.size(), -1);
+  auto worker = [&] {
+    for (std::size_t k = next++; k < jobs.size(); k = next++) {
+      const std::string cmd = std::string(SABLE_CLI) + " run '" + jobs[k].toml.string() +
+                              "' --out '" + jobs[k].out.string() + "' --threads 1 > '" +
+                              jobs[k].out.string() + ".log' 2>&1";
+      status[k] = std::system(cmd.c_str());  // glibc's system() is thread-safe
+    }
+  };
+  const std::size_t n_workers =
+      std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, jobs.size());
+  std::vector<std::thread> pool;
+  for (std::size_t t = 0; t < n_workers; ++t) pool.emplace_back(worker);
+  for (auto& t : pool) t.join();
+  for (std::size_t k = 0; k < jobs.size(); ++k)
+    ASSERT_EQ(status[k], 0) << "sable run " << jobs[k].toml << " failed; its log:\n"
+                            << read(jobs[k].out.string() + ".log");
+}
+
+// Analyse one case's runs as run.sh does: the snapshots before, during and after the descent
+// of all the seeds pooled.
+Study analyse_case(const Case& c) {
   Study st;
-  st.dem = cfg.sim.solver == "dem";
+  st.dem = c.name.rfind("dem", 0) == 0;
   std::vector<std::string> before, relax, after;
-  for (const std::uint64_t seed : seeds) {
-    cfg.sim.seed = seed;
-    RunOptions opt;
-    std::ostringstream log;
-    opt.log = &log;
-    opt.live_progress = false;
-    const fs::path run = dir / ("seed-" + std::to_string(seed));
-    opt.out_dir = run.string();
-    run_scenario(cfg, opt);
-    const fs::path snaps = run / "snapshots";
+  for (const std::uint64_t seed : c.seeds) {
+    const fs::path snaps = c.dir / ("seed-" + std::to_string(seed)) / "snapshots";
     if (st.snapshots.empty()) st.snapshots = snaps;
     const auto s1 = read_snapshot_info((snaps / "end_of_stage_1.h5").string()).step;
     const auto s2 = read_snapshot_info((snaps / "end_of_stage_2.h5").string()).step;
@@ -92,9 +136,9 @@ Study run_case(const std::string& name, const fs::path& dir,
     a.snapshots = std::move(in);
     a.only = {"walls", "janssen", "polarization", "stress"};
     a.wall_bin = 0.018;
-    a.out_dir = (dir / out).string();
+    a.out_dir = (c.dir / out).string();
     run_analysis(a);
-    return read(dir / out / "summary.json");
+    return read(c.dir / out / "summary.json");
   };
   st.before = analyse(before, "before");
   st.relax = analyse(relax, "relax");
@@ -211,8 +255,9 @@ void check_same_k(const Study& dem, const Study& cd) {
 TEST(SiloJanssen, DumontFortinOuafikSiloByDemAndCd) {
   const fs::path dir = fs::temp_directory_path() / "sable_test_silo";
   fs::remove_all(dir);
-  const Study dem = run_case("dem-2d", dir / "dem", {2010});
-  const Study cd = run_case("cd-2d", dir / "cd", {2010});
+  const Case dem_case{"dem-2d", dir / "dem", {2010}}, cd_case{"cd-2d", dir / "cd", {2010}};
+  ASSERT_NO_FATAL_FAILURE(run_all({dem_case, cd_case}));
+  const Study dem = analyse_case(dem_case), cd = analyse_case(cd_case);
   for (const auto* st : {&dem, &cd}) {
     SCOPED_TRACE(st == &dem ? "DEM" : "CD");
     check_study(*st, {0.6, 0.75, 1.0, 0.25, 0.1, 0.05});
@@ -239,9 +284,10 @@ TEST(SiloJanssen, DumontFortinOuafikSiloByDemAndCd) {
 TEST(SiloJanssen, RollingResistantEnsemblesMeetEveryItem) {
   const fs::path dir = fs::temp_directory_path() / "sable_test_silo_rolling";
   fs::remove_all(dir);
-  const Study dem = run_case("dem-2d-rolling", dir / "dem", {2010, 2011, 2012, 2013});
-  const Study cd =
-      run_case("cd-2d-rolling", dir / "cd", {2010, 2011, 2012, 2013, 2014, 2015, 2016, 2017});
+  const Case dem_case{"dem-2d-rolling", dir / "dem", {2010, 2011, 2012, 2013}};
+  const Case cd_case{"cd-2d-rolling", dir / "cd", {2010, 2011, 2012, 2013, 2014, 2015, 2016, 2017}};
+  ASSERT_NO_FATAL_FAILURE(run_all({cd_case, dem_case}));  // CD's runs are the longer: first
+  const Study dem = analyse_case(dem_case), cd = analyse_case(cd_case);
   for (const auto* st : {&dem, &cd}) {
     SCOPED_TRACE(st == &dem ? "DEM" : "CD");
     check_study(*st, {0.9, 0.95, 1.05, 0.5, 0.3, 0.1});
