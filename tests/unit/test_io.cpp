@@ -251,6 +251,23 @@ TEST_F(IoTest, VtkFilesParseWithMatchingCounts3D) {
   check_vtk_outputs<3>(dir_.string());
 }
 
+// Guards: a file larger than the writer's 64 KiB pieces (8,000 extra grains: ~0.5 MB of
+// text) comes out whole, one well-formed file with every grain, as a small one does.
+TEST_F(IoTest, VtkFileWrittenInPiecesIsWhole) {
+  if (!fs::exists("/usr/bin/python3")) GTEST_SKIP() << "needs /usr/bin/python3";
+  World<3> w = make_world<3>();
+  for (int k = 0; k < 8000; ++k)
+    w.particles.add(Eigen::Vector3d(0.001 * (k % 100), 0.001 * (k / 100), 0.2), kR, 2500.0, 0,
+                    w.thickness);
+  const std::size_t n = w.particles.size();
+  sable::write_grains_vtp(w, path("big.vtp"));
+  EXPECT_GT(fs::file_size(path("big.vtp")), 4u * 65536u) << "the test must span several pieces";
+  EXPECT_EQ(check_vtp(fmt::format("'{}' --points {} --cells {} --arrays {}", path("big.vtp"), n, n,
+                                  "id,radius,velocity,force")),
+            0);
+  EXPECT_FALSE(fs::exists(sable::atomic_temp_path(path("big.vtp")))) << "temporary left behind";
+}
+
 // Guards: an empty world still writes valid files (zero points, zero cells).
 TEST_F(IoTest, VtkEmptyWorld) {
   if (!fs::exists("/usr/bin/python3")) GTEST_SKIP() << "needs /usr/bin/python3";

@@ -56,20 +56,27 @@ void write_atomic(const std::string& path,
   commit_atomic(tmp, path);
 }
 
-void write_text_atomic(const std::string& path, const std::string& text) {
+void write_pieces_atomic(const std::string& path, const std::function<void(const PutText&)>& fill) {
   write_atomic(path, [&](const std::string& tmp) {
     errno = 0;
     std::unique_ptr<std::FILE, FileCloser> f(std::fopen(tmp.c_str(), "wb"));
     if (!f) throw InputError(fmt::format("cannot write '{}': {}", path, os_reason(errno)));
+    fill([&](const char* data, std::size_t size) {
+      errno = 0;
+      if (std::fwrite(data, 1, size, f.get()) != size)
+        throw InputError(fmt::format("cannot write '{}': {}", path, os_reason(errno)));
+    });
     errno = 0;
-    const bool wrote = std::fwrite(text.data(), 1, text.size(), f.get()) == text.size();
-    const bool flushed = wrote && std::fflush(f.get()) == 0;
-    const int err = errno;
-    if (!flushed) throw InputError(fmt::format("cannot write '{}': {}", path, os_reason(err)));
+    if (std::fflush(f.get()) != 0)
+      throw InputError(fmt::format("cannot write '{}': {}", path, os_reason(errno)));
     errno = 0;
     if (std::fclose(f.release()) != 0)
       throw InputError(fmt::format("cannot write '{}': {}", path, os_reason(errno)));
   });
+}
+
+void write_text_atomic(const std::string& path, const std::string& text) {
+  write_pieces_atomic(path, [&](const PutText& put) { put(text.data(), text.size()); });
 }
 
 }  // namespace sable

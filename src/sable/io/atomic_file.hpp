@@ -6,6 +6,7 @@
 // within a file system: a reader sees either the old file or the new one, never a mix.
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <string>
 
@@ -25,5 +26,11 @@ void write_atomic(const std::string& path,
 
 // Replace `path` with `text`, atomically.
 void write_text_atomic(const std::string& path, const std::string& text);
+
+// Replace `path` atomically with what `fill` writes, in as many pieces as it likes, through
+// the `put(data, size)` it is given (each piece goes straight to the file: a large output
+// need not be held whole in memory). An error names `path` and the OS reason.
+using PutText = std::function<void(const char* data, std::size_t size)>;
+void write_pieces_atomic(const std::string& path, const std::function<void(const PutText&)>& fill);
 
 }  // namespace sable

@@ -96,6 +96,11 @@ class File {
     write_raw(dset, native_type<T>(), data.data(), cols == 0 ? data.size() : data.size() / cols,
               cols);
   }
+  // `rows` rows of `cols` values each (0: a 1-D dataset) straight from `data`.
+  template <class T>
+  void write(const std::string& dset, const T* data, hsize_t rows, hsize_t cols) {
+    write_raw(dset, native_type<T>(), data, rows, cols);
+  }
   void write_string(const std::string& dset, const std::string& text);
   void write_strings(const std::string& dset, const std::vector<std::string>& texts);
   template <class T>

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 
 #include "sable/core/error.hpp"
@@ -59,6 +60,12 @@ struct Pack<Eigen::Quaterniond> {
 template <class T>
 void write_rows(h5::File& f, const std::string& name, const std::vector<T>& v) {
   constexpr hsize_t cols = Pack<T>::cols;
+  if constexpr (sizeof(T) == cols * sizeof(double) && !std::is_same_v<T, Eigen::Quaterniond>) {
+    // A double or a fixed-size Eigen vector is its coefficients in order, without padding:
+    // written in place, without a copy (the pair lists' are the largest arrays of a run).
+    f.write(name, reinterpret_cast<const double*>(v.data()), v.size(), cols);
+    return;
+  }
   std::vector<double> flat(v.size() * cols);
   for (std::size_t k = 0; k < v.size(); ++k) Pack<T>::put(v[k], flat.data() + k * cols);
   f.write(name, flat, cols);

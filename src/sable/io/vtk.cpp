@@ -71,12 +71,34 @@ std::string xml_unescape(const std::string& s) {
   return out;
 }
 
+// A file's text as it is made, handed to the file in pieces of about kPiece bytes: a file
+// costs that much memory whatever its size. (Made whole, the 4 MB text of a 20,000-grain
+// file was held twice at the end of every stage, the buffer and its copy into a string: the
+// run's peak memory.)
+class Sink {
+ public:
+  explicit Sink(const PutText& put) : put_(put) {}
+  auto out() { return std::back_inserter(buf_); }
+  void push(char c) { buf_.push_back(c); }
+  // Hand over the text made so far once it passes kPiece (`all`: whatever its size).
+  void spill(bool all = false) {
+    if (buf_.size() < kPiece && !all) return;
+    put_(buf_.data(), buf_.size());
+    buf_.clear();
+  }
+
+ private:
+  static constexpr std::size_t kPiece = std::size_t{1} << 16;
+  const PutText& put_;
+  Buf buf_;
+};
+
 struct CellCounts {
   std::size_t points = 0, verts = 0, lines = 0, polys = 0;
 };
 
-void begin_piece(Buf& b, const CellCounts& c) {
-  fmt::format_to(std::back_inserter(b),
+void begin_piece(Sink& s, const CellCounts& c) {
+  fmt::format_to(s.out(),
                  "<?xml version=\"1.0\"?>\n"
                  "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
                  "header_type=\"UInt64\">\n<PolyData>\n"
@@ -85,51 +107,73 @@ void begin_piece(Buf& b, const CellCounts& c) {
                  c.points, c.verts, c.lines, c.polys);
 }
 
-void end_piece(Buf& b) {
-  fmt::format_to(std::back_inserter(b), "</Piece>\n</PolyData>\n</VTKFile>\n");
+void end_piece(Sink& s) {
+  fmt::format_to(s.out(), "</Piece>\n</PolyData>\n</VTKFile>\n");
+  s.spill(true);
 }
 
-// A Float64 array of `comps` components per tuple.
-void real_array(Buf& b, const char* name, int comps, const std::vector<double>& values) {
-  fmt::format_to(std::back_inserter(b),
+// A Float64 array of `count` values, `comps` components per tuple; value(k) is the k-th.
+template <class Value>
+void real_array(Sink& s, const char* name, int comps, std::size_t count, Value value) {
+  fmt::format_to(s.out(),
                  "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" "
                  "format=\"ascii\">\n",
                  name, comps);
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    fmt::format_to(std::back_inserter(b), fmt::runtime(kReal), values[k]);
-    b.push_back((k + 1) % static_cast<std::size_t>(comps) == 0 ? '\n' : ' ');
+  for (std::size_t k = 0; k < count; ++k) {
+    fmt::format_to(s.out(), fmt::runtime(kReal), static_cast<double>(value(k)));
+    s.push((k + 1) % static_cast<std::size_t>(comps) == 0 ? '\n' : ' ');
+    s.spill();
   }
-  fmt::format_to(std::back_inserter(b), "</DataArray>\n");
+  fmt::format_to(s.out(), "</DataArray>\n");
+}
+
+void real_array(Sink& s, const char* name, int comps, const std::vector<double>& values) {
+  real_array(s, name, comps, values.size(), [&](std::size_t k) { return values[k]; });
+}
+
+// An integer array of `count` values; value(k) is the k-th.
+template <class Value>
+void int_array(Sink& s, const char* type, const char* name, std::size_t count, Value value) {
+  fmt::format_to(s.out(), "<DataArray type=\"{}\" Name=\"{}\" format=\"ascii\">\n", type, name);
+  for (std::size_t k = 0; k < count; ++k) {
+    fmt::format_to(s.out(), "{}", static_cast<std::int64_t>(value(k)));
+    s.push((k + 1) % 16 == 0 || k + 1 == count ? '\n' : ' ');
+    s.spill();
+  }
+  fmt::format_to(s.out(), "</DataArray>\n");
 }
 
 template <class I>
-void int_array(Buf& b, const char* type, const char* name, const std::vector<I>& values) {
-  fmt::format_to(std::back_inserter(b), "<DataArray type=\"{}\" Name=\"{}\" format=\"ascii\">\n",
-                 type, name);
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    fmt::format_to(std::back_inserter(b), "{}", static_cast<std::int64_t>(values[k]));
-    b.push_back((k + 1) % 16 == 0 || k + 1 == values.size() ? '\n' : ' ');
-  }
-  fmt::format_to(std::back_inserter(b), "</DataArray>\n");
+void int_array(Sink& s, const char* type, const char* name, const std::vector<I>& values) {
+  int_array(s, type, name, values.size(), [&](std::size_t k) { return values[k]; });
 }
 
-void points_section(Buf& b, const std::vector<double>& xyz) {
-  fmt::format_to(std::back_inserter(b), "<Points>\n");
-  real_array(b, "Points", 3, xyz);
-  fmt::format_to(std::back_inserter(b), "</Points>\n");
+void points_section(Sink& s, std::size_t count, const auto& value) {
+  fmt::format_to(s.out(), "<Points>\n");
+  real_array(s, "Points", 3, count, value);
+  fmt::format_to(s.out(), "</Points>\n");
+}
+
+// A Verts, Lines or Polys section of `cells` cells of `size` points each, point k of the
+// connectivity being point k (the grains' vertices and the contacts' segments).
+void uniform_cells_section(Sink& s, const char* tag, std::size_t cells, std::size_t size) {
+  fmt::format_to(s.out(), "<{}>\n", tag);
+  int_array(s, "Int64", "connectivity", cells * size, [](std::size_t k) { return k; });
+  int_array(s, "Int64", "offsets", cells, [&](std::size_t c) { return (c + 1) * size; });
+  fmt::format_to(s.out(), "</{}>\n", tag);
 }
 
 // A Verts, Lines or Polys section from each cell's point indices.
-void cells_section(Buf& b, const char* tag, const std::vector<std::vector<std::int64_t>>& cells) {
+void cells_section(Sink& s, const char* tag, const std::vector<std::vector<std::int64_t>>& cells) {
   std::vector<std::int64_t> connectivity, offsets;
   for (const auto& cell : cells) {
     connectivity.insert(connectivity.end(), cell.begin(), cell.end());
     offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
   }
-  fmt::format_to(std::back_inserter(b), "<{}>\n", tag);
-  int_array(b, "Int64", "connectivity", connectivity);
-  int_array(b, "Int64", "offsets", offsets);
-  fmt::format_to(std::back_inserter(b), "</{}>\n", tag);
+  fmt::format_to(s.out(), "<{}>\n", tag);
+  int_array(s, "Int64", "connectivity", connectivity);
+  int_array(s, "Int64", "offsets", offsets);
+  fmt::format_to(s.out(), "</{}>\n", tag);
 }
 
 void append3(std::vector<double>& out, const P3& p) {
@@ -165,37 +209,30 @@ void write_grains_vtp(const World<D>& world, const std::string& path) {
   using S = Space<D>;
   const auto& p = world.particles;
   const std::size_t n = p.size();
-  std::vector<double> xyz, vel, omega, force;
-  std::vector<std::int64_t> ids;
-  std::vector<std::int32_t> material;
-  std::vector<std::uint8_t> fixed;
-  std::vector<std::vector<std::int64_t>> verts;
-  for (std::size_t k = 0; k < n; ++k) {
-    append3(xyz, S::to_array(p.x[k]));
-    append3(vel, S::to_array(p.v[k]));
-    append3(omega, S::rot_to_array(p.w[k]));
-    append3(force, S::to_array(p.f[k]));
-    ids.push_back(p.id[k].index);
-    material.push_back(p.material[k]);
-    fixed.push_back(p.fixed(k) ? 1 : 0);
-    verts.push_back({static_cast<std::int64_t>(k)});
-  }
-  Buf b;
-  begin_piece(b, {n, n, 0, 0});
-  fmt::format_to(std::back_inserter(b), "<PointData Scalars=\"radius\" Vectors=\"velocity\">\n");
-  int_array(b, "Int64", "id", ids);
-  real_array(b, "radius", 1, p.radius);
-  real_array(b, "velocity", 3, vel);
-  real_array(b, "angular_velocity", 3, omega);
-  real_array(b, "force", 3, force);
-  int_array(b, "Int32", "coordination", coordination(world));
-  int_array(b, "Int32", "material", material);
-  int_array(b, "UInt8", "fixed", fixed);
-  fmt::format_to(std::back_inserter(b), "</PointData>\n");
-  points_section(b, xyz);
-  cells_section(b, "Verts", verts);
-  end_piece(b);
-  write_text_atomic(path, fmt::to_string(b));
+  const std::vector<std::int32_t> z = coordination(world);
+  // Per-grain vectors as 3D points, read in place (a 2D vector gets z = 0, a 2D spin is the
+  // z component): component k of the flattened array.
+  const auto vec3 = [](const auto& v) {
+    return [&v](std::size_t k) { return S::to_array(v[k / 3])[k % 3]; };
+  };
+  const auto spin3 = [&](std::size_t k) { return S::rot_to_array(p.w[k / 3])[k % 3]; };
+  write_pieces_atomic(path, [&](const PutText& put) {
+    Sink s(put);
+    begin_piece(s, {n, n, 0, 0});
+    fmt::format_to(s.out(), "<PointData Scalars=\"radius\" Vectors=\"velocity\">\n");
+    int_array(s, "Int64", "id", n, [&](std::size_t k) { return p.id[k].index; });
+    real_array(s, "radius", 1, p.radius);
+    real_array(s, "velocity", 3, 3 * n, vec3(p.v));
+    real_array(s, "angular_velocity", 3, 3 * n, spin3);
+    real_array(s, "force", 3, 3 * n, vec3(p.f));
+    int_array(s, "Int32", "coordination", z);
+    int_array(s, "Int32", "material", n, [&](std::size_t k) { return p.material[k]; });
+    int_array(s, "UInt8", "fixed", n, [&](std::size_t k) { return p.fixed(k) ? 1 : 0; });
+    fmt::format_to(s.out(), "</PointData>\n");
+    points_section(s, 3 * n, vec3(p.x));
+    uniform_cells_section(s, "Verts", n, 1);
+    end_piece(s);
+  });
 }
 
 template <int D>
@@ -206,7 +243,6 @@ void write_contacts_vtp(const World<D>& world, const std::string& path) {
   const auto& pl = world.neighbors.pairs;
   std::vector<double> xyz, fn, fn_vec, ft_vec, bridge;
   std::vector<std::int64_t> id_i, id_j;
-  std::vector<std::vector<std::int64_t>> lines;
   const bool wet = pl.bridge.size() == pl.size() && world.neighbors.bridges;
   for (std::size_t k = 0; k < pl.size(); ++k) {
     const std::uint32_t i = pl.i[k], j = pl.j[k];
@@ -218,8 +254,6 @@ void write_contacts_vtp(const World<D>& world, const std::string& path) {
     const double f_n = f.dot(n);
     append3(xyz, S::to_array(p.x[i]));
     append3(xyz, S::to_array(p.x[j]));
-    const auto first = static_cast<std::int64_t>(lines.size() * 2);
-    lines.push_back({first, first + 1});
     fn.push_back(f_n);
     append3(fn_vec, S::to_array(Vec(f_n * n)));
     append3(ft_vec, S::to_array(Vec(f - f_n * n)));
@@ -227,21 +261,23 @@ void write_contacts_vtp(const World<D>& world, const std::string& path) {
     id_j.push_back(p.id[j].index);
     if (wet) bridge.push_back(pl.bridge[k]);
   }
-  Buf b;
-  begin_piece(b, {2 * lines.size(), 0, lines.size(), 0});
-  fmt::format_to(std::back_inserter(b), "<CellData Scalars=\"normal_force\">\n");
-  real_array(b, "normal_force", 1, fn);
-  real_array(b, "normal_force_vector", 3, fn_vec);
-  real_array(b, "tangential_force", 3, ft_vec);
-  int_array(b, "Int64", "id_i", id_i);
-  int_array(b, "Int64", "id_j", id_j);
-  // Wet law: the liquid-bridge volume of each bond (m^3; -1 where there is none).
-  if (wet) real_array(b, "bridge_volume", 1, bridge);
-  fmt::format_to(std::back_inserter(b), "</CellData>\n");
-  points_section(b, xyz);
-  cells_section(b, "Lines", lines);
-  end_piece(b);
-  write_text_atomic(path, fmt::to_string(b));
+  const std::size_t lines = fn.size();  // one segment per contact, from x_i to x_j
+  write_pieces_atomic(path, [&](const PutText& put) {
+    Sink s(put);
+    begin_piece(s, {2 * lines, 0, lines, 0});
+    fmt::format_to(s.out(), "<CellData Scalars=\"normal_force\">\n");
+    real_array(s, "normal_force", 1, fn);
+    real_array(s, "normal_force_vector", 3, fn_vec);
+    real_array(s, "tangential_force", 3, ft_vec);
+    int_array(s, "Int64", "id_i", id_i);
+    int_array(s, "Int64", "id_j", id_j);
+    // Wet law: the liquid-bridge volume of each bond (m^3; -1 where there is none).
+    if (wet) real_array(s, "bridge_volume", 1, bridge);
+    fmt::format_to(s.out(), "</CellData>\n");
+    points_section(s, xyz.size(), [&](std::size_t k) { return xyz[k]; });
+    uniform_cells_section(s, "Lines", lines, 2);
+    end_piece(s);
+  });
 }
 
 namespace {
@@ -368,16 +404,17 @@ void write_walls_vtp(const World<D>& world, const std::string& path) {
   std::vector<double> force;
   for (std::int32_t k : mesh.wall) append3(force, S::to_array(world.walls[k].force));
   const std::size_t ncells = mesh.cells.size();
-  Buf b;
-  begin_piece(b, {mesh.xyz.size() / 3, 0, D == 2 ? ncells : 0, D == 3 ? ncells : 0});
-  fmt::format_to(std::back_inserter(b), "<CellData Scalars=\"wall\" Vectors=\"force\">\n");
-  int_array(b, "Int32", "wall", mesh.wall);
-  real_array(b, "force", 3, force);
-  fmt::format_to(std::back_inserter(b), "</CellData>\n");
-  points_section(b, mesh.xyz);
-  cells_section(b, D == 2 ? "Lines" : "Polys", mesh.cells);
-  end_piece(b);
-  write_text_atomic(path, fmt::to_string(b));
+  write_pieces_atomic(path, [&](const PutText& put) {
+    Sink s(put);
+    begin_piece(s, {mesh.xyz.size() / 3, 0, D == 2 ? ncells : 0, D == 3 ? ncells : 0});
+    fmt::format_to(s.out(), "<CellData Scalars=\"wall\" Vectors=\"force\">\n");
+    int_array(s, "Int32", "wall", mesh.wall);
+    real_array(s, "force", 3, force);
+    fmt::format_to(s.out(), "</CellData>\n");
+    points_section(s, mesh.xyz.size(), [&](std::size_t k) { return mesh.xyz[k]; });
+    cells_section(s, D == 2 ? "Lines" : "Polys", mesh.cells);
+    end_piece(s);
+  });
 }
 
 // --- PvdSeries
