@@ -469,11 +469,14 @@ void DemSolver<D>::pair_forces() {
   PairPass pass = pair_pass();
   const std::uint32_t* const near = near_.index.data();
   const std::uint32_t* const first_begin = near_.first_begin.data();
-  const auto n_near = static_cast<std::ptrdiff_t>(near_.index.size());
+  // The pass clears every grain's sums (own()) as well as visiting the entries: a bed with
+  // few contacts is still worth the threads, and clearing them all on one thread would leave
+  // the other threads' grains in its cache for the next kick.
+  const auto items = static_cast<std::ptrdiff_t>(near_.index.size() + w_.particles.size());
   double max_ratio = 0.0;
   std::size_t touching = 0;
 #pragma omp parallel firstprivate(pass) reduction(max : max_ratio) reduction(+ : touching) \
-    if (n_near >= kMinParallelItems)
+    if (items >= kMinParallelItems)
   {
     const int threads = omp_get_num_threads();
 #pragma omp single
@@ -500,19 +503,29 @@ void DemSolver<D>::pair_forces() {
   diag_.touching += touching;
 }
 
-// Blocks of grains for `threads` threads, each with about an equal share of the near list.
+// Blocks of grains for `threads` threads, each with about an equal share of the pass's work:
+// its near-list entries, plus one per grain (own() clears each grain's sums; the grain loops
+// of the step split the grains evenly, and a block far from an even split leaves each
+// thread other threads' grains to fetch there). Split by entries alone, a bed whose contacts
+// sit in a few grains (a fall, where only the landed layers touch) gave one thread nearly
+// every grain: two threads took longer than one (docs/BENCHMARKS.md, thirteenth session).
 template <int D>
 void DemSolver<D>::split_grains(int threads) {
   const auto& begin = near_.first_begin;  // n + 1 entries
   const auto n_threads = static_cast<std::size_t>(threads);
-  const std::size_t n_near = near_.index.size();
+  const std::size_t n = begin.size() - 1;
+  const std::size_t work = near_.index.size() + n;  // begin[n] + n
   grain_block_.assign(n_threads + 1, 0);
-  grain_block_[n_threads] = static_cast<std::uint32_t>(begin.size() - 1);
+  grain_block_[n_threads] = static_cast<std::uint32_t>(n);
   for (std::size_t t = 1; t < n_threads; ++t) {
-    const std::uint32_t share = static_cast<std::uint32_t>(n_near * t / n_threads);
-    // The grain whose entries hold entry `share`: the last g with begin[g] <= share.
-    const auto g = std::upper_bound(begin.begin(), begin.end() - 1, share) - begin.begin() - 1;
-    grain_block_[t] = std::max(grain_block_[t - 1], static_cast<std::uint32_t>(g));
+    const std::size_t share = work * t / n_threads;
+    // The last grain g whose work before it, begin[g] + g, is at most the share.
+    std::size_t lo = grain_block_[t - 1], hi = n;  // begin[lo] + lo <= share (or lo = first)
+    while (hi - lo > 1) {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      (begin[mid] + mid <= share ? lo : hi) = mid;
+    }
+    grain_block_[t] = static_cast<std::uint32_t>(lo);
   }
 }
 
