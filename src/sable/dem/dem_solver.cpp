@@ -356,11 +356,11 @@ struct DemSolver<D>::PairPass {
     }
   }
 
-  // The dry pass for the Hertz law in 3D without rolling resistance, the pour's and the silo's:
-  // the touching entries of each stretch of the list go into lanes, their forces are computed
-  // as one batch in SIMD registers (contact/contact_lanes.hpp), then stored and added to the
-  // grains one by one in list order, as entries() does: the same bits, and 30 % less time
-  // in the pass (docs/BENCHMARKS.md, thirteenth session).
+  // The dry pass for the Hertz law in 3D without rolling resistance (the pour's): the
+  // touching entries of each stretch of the list go into lanes, their forces are computed as
+  // one batch in SIMD registers (contact/contact_lanes.hpp), then stored and added to the
+  // grains one by one in list order, as entries() does: the same bits, and a quarter less
+  // time in the pass (docs/BENCHMARKS.md, thirteenth session).
   template <Sum How>
   [[gnu::flatten]] void entries_in_lanes(const std::uint32_t* near, std::uint32_t m0,
                                          std::uint32_t m1, double& max_ratio,
