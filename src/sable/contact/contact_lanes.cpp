@@ -1,8 +1,8 @@
 // The batched contact law (see contact_lanes.hpp). This file is compiled with
 // -fno-trapping-math, so that the compiler may compute both sides of a select (a division or
-// square root whose result a lane then discards raises no trap that anyone reads), and with
-// -ffp-contract=off, so that AVX-512's fused multiply-adds cannot change the bits
-// (CMakeLists.txt). Neither option changes the value of any operation.
+// square root whose result a lane then discards raises no trap that anyone reads; no value
+// changes), and with -ffp-contract=off, so that each multiply and add is rounded on its own
+// as in the scalar law, never fused into an AVX-512 multiply-add (CMakeLists.txt).
 #include "sable/contact/contact_lanes.hpp"
 
 #include <fmt/format.h>
@@ -14,9 +14,9 @@ namespace sable {
 
 namespace {
 
-// One loop over the lanes, every branch of contact_force() a select. Each line names the
-// operation of contact_force() (or of PairPass::touch() in dem/dem_solver.cpp) it repeats:
-// Eigen's 3-vector dot products and norms sum left to right, ((x + y) + z).
+// One loop over the lanes, every branch of contact_force() a select; the comments say which
+// part of contact_force() (or of PairPass::touch() in dem/dem_solver.cpp) each stretch
+// repeats. Eigen's 3-vector dot products and norms sum left to right, ((x + y) + z).
 template <class Normal>
 [[gnu::always_inline]] inline void run(ContactLanes& L, int n, const ContactModel& law, double dt) {
   // A local copy: the lanes' stores cannot alias it, so its fields stay in registers.
