@@ -259,7 +259,14 @@ TEST(NearList, StaleCriterion) {
   EXPECT_FALSE(near.stale(p, nl, false));
   const auto x0 = p.x;
 
-  const auto moved = [&] { return near.stale(p, nl, false); };
+  // The DEM step measures the displacement in its drift loop (dem/grain_loops.cpp) and asks
+  // stale_after(): that path must decide exactly as stale() does.
+  const auto moved = [&] {
+    const bool s = near.stale(p, nl, false);
+    EXPECT_EQ(near.stale_after(sable::max_displacement2<3>(p.x, near.reference()), p, nl, false),
+              s);
+    return s;
+  };
   sable::test::expect_half_reach_criterion<3>(p, x0, r, inner, moved);
   p.x[0].x() += 0.51 * inner;  // touching
   p.x[1].x() -= 0.51 * inner;

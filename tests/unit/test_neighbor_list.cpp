@@ -258,32 +258,39 @@ TEST(NeighborList, NeedsRebuildCriterion) {
   nl.skin = skin;
   nl.domain_lo = Vec<3>::Constant(-1.0);
   nl.domain_hi = Vec<3>::Constant(1.0);
-  EXPECT_TRUE(nl.needs_rebuild(p, walls));  // never built
+  EXPECT_TRUE(nl.needs_rebuild(p, walls));           // never built
+  EXPECT_TRUE(nl.needs_rebuild_after(-1.0, walls));  // the DEM drift's "no reference"
   nl.build(p, walls);
-  EXPECT_FALSE(nl.needs_rebuild(p, walls));
+  // The DEM step measures the displacement in its drift loop (dem/grain_loops.cpp) and asks
+  // needs_rebuild_after(): that path must decide exactly as needs_rebuild() does.
+  const auto rebuild = [&] {
+    const bool due = nl.needs_rebuild(p, walls);
+    EXPECT_EQ(nl.needs_rebuild_after(sable::max_displacement2<3>(p.x, nl.x_ref), walls), due);
+    return due;
+  };
+  EXPECT_FALSE(rebuild());
   EXPECT_EQ(nl.pairs.size(), 0u);
   EXPECT_EQ(nl.wall_pairs.size(), 0u);
   const auto x0 = p.x;
 
-  sable::test::expect_half_reach_criterion<3>(p, x0, r, skin,
-                                              [&] { return nl.needs_rebuild(p, walls); });
+  sable::test::expect_half_reach_criterion<3>(p, x0, r, skin, [&] { return rebuild(); });
 
   // A moved wall alone, then together with a grain.
   p.x = x0;
   const Vec<3> w0 = walls[0].point;
   walls[0].point.y() = w0.y() + 0.99 * skin;
-  EXPECT_FALSE(nl.needs_rebuild(p, walls));
+  EXPECT_FALSE(rebuild());
   walls[0].point.y() = w0.y() + 1.01 * skin;
-  EXPECT_TRUE(nl.needs_rebuild(p, walls));
+  EXPECT_TRUE(rebuild());
   walls[0].point.x() = w0.x() - 1.01 * skin;  // sideways counts too: the criterion is |dwall|
   walls[0].point.y() = w0.y();
-  EXPECT_TRUE(nl.needs_rebuild(p, walls));
+  EXPECT_TRUE(rebuild());
   walls[0].point = w0;
   p.x[0].z() = x0[0].z() + 0.3 * skin;
   walls[0].point.y() = w0.y() + 0.69 * skin;
-  EXPECT_FALSE(nl.needs_rebuild(p, walls));
+  EXPECT_FALSE(rebuild());
   walls[0].point.y() = w0.y() + 0.71 * skin;
-  EXPECT_TRUE(nl.needs_rebuild(p, walls));
+  EXPECT_TRUE(rebuild());
 
   // After a rebuild at the touching configuration the pair is listed and all is quiet again.
   walls[0].point = w0;
@@ -291,16 +298,16 @@ TEST(NeighborList, NeedsRebuildCriterion) {
   p.x[0].x() += 0.51 * skin;  // touching
   p.x[1].x() -= 0.51 * skin;
   nl.build(p, walls);
-  EXPECT_FALSE(nl.needs_rebuild(p, walls));
+  EXPECT_FALSE(rebuild());
   ASSERT_EQ(nl.pairs.size(), 1u);
   EXPECT_EQ(nl.pairs.i[0], 0u);
   EXPECT_EQ(nl.pairs.j[0], 1u);
   // A new grain or a new wall invalidates the list.
   walls.push_back(plane<3>(Vec<3>(0.0, 0.0, -1.0), Vec<3>(0.0, 0.0, 1.0)));
-  EXPECT_TRUE(nl.needs_rebuild(p, walls));
+  EXPECT_TRUE(rebuild());
   walls.pop_back();
   p.add(Vec<3>(0.5, 0.5, 0.5), r, 2500.0, 0, 1.0);
-  EXPECT_TRUE(nl.needs_rebuild(p, walls));
+  EXPECT_TRUE(rebuild());
 }
 
 // Guards the completeness the skin promises: grains random-walking with persistent directions

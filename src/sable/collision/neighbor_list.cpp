@@ -22,8 +22,14 @@ double max_displacement2(const std::vector<typename Space<D>::Vec>& x,
 template <int D>
 bool NeighborList<D>::needs_rebuild(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls,
                                     double margin) const {
-  if (x_ref.size() != p.size() || wall_ref.size() != walls.size()) return true;
-  const double max_d2 = max_displacement2<D>(p.x, x_ref);
+  if (x_ref.size() != p.size()) return true;
+  return needs_rebuild_after(max_displacement2<D>(p.x, x_ref), walls, margin);
+}
+
+template <int D>
+bool NeighborList<D>::needs_rebuild_after(double max_d2, const std::vector<Wall<D>>& walls,
+                                          double margin) const {
+  if (max_d2 < 0.0 || wall_ref.size() != walls.size()) return true;
   double max_w2 = 0.0;
   for (std::size_t w = 0; w < walls.size(); ++w)
     max_w2 = std::max(max_w2, (walls[w].point - wall_ref[w]).squaredNorm());

@@ -101,6 +101,11 @@ class NeighborList {
   // that can close during the coming step.
   bool needs_rebuild(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls,
                      double margin = 0.0) const;
+  // The same test, given the grains' largest squared displacement since x_ref (max_d2,
+  // negative when x_ref does not hold every grain): the DEM step measures it in its drift
+  // loop instead of reading every position again.
+  bool needs_rebuild_after(double max_d2, const std::vector<Wall<D>>& walls,
+                           double margin = 0.0) const;
   void build(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls);
 
  private:

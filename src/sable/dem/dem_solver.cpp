@@ -14,29 +14,15 @@
 
 namespace sable {
 
-// Below this many grains or contacts a loop runs on one thread: waking a thread team costs
-// more than the work. The result is the same bits either way.
-constexpr std::ptrdiff_t kMinParallelItems = 2048;
 constexpr std::uint8_t kBridgeFormed = 1, kBridgeBroken = 2;
 
 namespace {
 
-// Entry k is apart. A contact that has just ended forgets its history; entries already apart
-// hold zeros and are not written again (most candidates are apart: this saves bandwidth).
-// Grain pairs and wall pairs alike, through their arrays' addresses (see PairPass).
-template <class Vec, class Rot>
-void forget_if_ended(Vec* shear, Vec* force, Rot* moment, double* delta, std::size_t k,
-                     const Rot& zero) {
-  if (delta[k] == 0.0) return;
-  shear[k].setZero();
-  force[k].setZero();
-  moment[k] = zero;
-  delta[k] = 0.0;
-}
+using dem_detail::forget_if_ended;
 
-// How the grain-pair passes sum forces per grain (see pair_forces and accumulate): store in
-// the contact's slots only, for the gather (kGather); add to both grains (kScatter); add to
-// the grains not flagged `gathered`, store for the others (kScatterChecked).
+// How the grain-pair passes sum forces per grain (see pair_forces and the gather, GrainPass::sum):
+// store in the contact's slots only, for the gather (kGather); add to both grains (kScatter); add
+// to the grains not flagged `gathered`, store for the others (kScatterChecked).
 enum class Sum : std::uint8_t { kGather, kScatter, kScatterChecked };
 
 }  // namespace
@@ -50,74 +36,27 @@ void DemSolver<D>::initialize() {
 }
 
 // One velocity-Verlet step. Forces at t are known on entry (from the previous step or
-// initialize()), so the step is: half kick, drift, contact detection, forces at t + h,
-// half kick. Gravity enters as an acceleration in the kicks.
+// initialize()), so the step is: half kick and drift, contact detection, forces at t + h,
+// half kick. Gravity enters as an acceleration in the kicks. The loops over the grains are
+// in dem/grain_loops.cpp.
 template <int D>
 void DemSolver<D>::step() {
   const double h = w_.dt;
+  Moved moved;
   {
     auto scope = timers_.time(Phase::kIntegrate);
-    kick_drift(0.5 * h, h);
+    moved = kick_drift(0.5 * h, h);
     for (auto& wall : w_.walls) wall.point += h * wall.velocity;
   }
   {
     auto scope = timers_.time(Phase::kNeighbors);
-    if (w_.neighbors.needs_rebuild(w_.particles, w_.walls))
+    if (w_.neighbors.needs_rebuild_after(moved.outer2, w_.walls))
       w_.neighbors.build(w_.particles, w_.walls);
   }
-  compute_forces();
-  {
-    auto scope = timers_.time(Phase::kIntegrate);
-    kick(0.5 * h);
-  }
+  const bool unsound = forces(&moved, 0.5 * h);  // and the closing half kick
   w_.time += h;
   ++w_.step;
-  check_grain_states(w_);
-}
-
-// The grain loops below copy the arrays' addresses into locals first: through
-// w_.particles every store of a vector (Eigen's SSE stores may alias anything) would make
-// the compiler fetch each array's address again (see PairPass).
-
-// v += h a, w += h alpha: the half kicks. Gravity enters as an acceleration here.
-template <int D>
-void DemSolver<D>::kick(double h) {
-  kick_drift(h, 0.0);
-}
-
-// A half kick by h, then (h_drift > 0) a drift by h_drift, in one loop over the grains: the
-// two are the first phase of every step, and one pass reads each grain's velocity once
-// instead of twice. Per grain the operations are those of a kick then a drift.
-template <int D>
-void DemSolver<D>::kick_drift(double h, double h_drift) {
-  using S = Space<D>;
-  auto& p = w_.particles;
-  const auto g = w_.gravity;
-  const auto n = static_cast<std::ptrdiff_t>(p.size());
-  typename S::Vec* const x = p.x.data();
-  typename S::Orientation* const q = p.q.data();
-  typename S::Vec* const v = p.v.data();
-  typename S::Rot* const w = p.w.data();
-  const typename S::Vec* const f = p.f.data();
-  const typename S::Rot* const t = p.t.data();
-  const double* const inv_mass = p.inv_mass.data();
-  const double* const inv_inertia = p.inv_inertia.data();
-  // Background damping -m nu v, -I nu w, taken implicitly (v_new feels it): stable for any nu h.
-  const double keep = w_.viscous_rate > 0.0 ? 1.0 / (1.0 + w_.viscous_rate * h) : 1.0;
-  const bool drifting = h_drift > 0.0, turning = drifting && w_.track_orientation;
-#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
-  for (std::ptrdiff_t kk = 0; kk < n; ++kk) {
-    const auto k = static_cast<std::size_t>(kk);
-    if (inv_mass[k] == 0.0) continue;
-    v[k] += h * (f[k] * inv_mass[k] + g);
-    w[k] += h * inv_inertia[k] * t[k];
-    if (keep != 1.0) {
-      v[k] *= keep;
-      w[k] *= keep;
-    }
-    if (drifting) x[k] += h_drift * v[k];
-    if (turning) q[k] = S::rotate(q[k], w[k], h_drift);
-  }
+  if (unsound) check_grain_states(w_);  // names the first unsound grain and throws
 }
 
 // Forces so that the result does not depend on the number of threads:
@@ -125,12 +64,16 @@ void DemSolver<D>::kick_drift(double h, double h_drift) {
 //      dem/near_list.hpp): the force on its first grain, written into the contact's own slot
 //      together with n x F and the overlap (for the torques), and in the dry pass added to
 //      its grains' sums as it goes (pair_forces: one block of grains per thread);
-//   2. per grain (in parallel), for the grains the pass did not sum (accumulate): the sum of
-//      its contacts' forces and torques, in the same order (second-member pairs,
-//      first-member pairs, wall pairs, by ascending index).
+//   2. per grain (in parallel, finish() in dem/grain_loops.cpp): its wall contacts, then, for
+//      the grains the pass did not sum, the sum of its contacts' forces and torques in the
+//      same order (second-member pairs, first-member pairs, wall pairs, by ascending index),
+//      or else its walls' terms added to the pass's sum; then the closing half kick by h_kick
+//      (none when 0).
 // No atomics, no per-thread force copies, and no race: each thread writes only its own items.
+// `moved`: the displacements the step's drift measured (null: measure them here). True when
+// some grain's state is unsound after the kick (finish()).
 template <int D>
-void DemSolver<D>::compute_forces() {
+bool DemSolver<D>::forces(const Moved* moved, double h_kick) {
   auto& nl = w_.neighbors;
   nl.update_incidence(w_.particles.size());
   if (scratch_build_ != nl.builds || pair_delta_.size() != nl.pairs.size() ||
@@ -153,7 +96,8 @@ void DemSolver<D>::compute_forces() {
   if (rolling) prepare_rolling(wet);
   {
     auto scope = timers_.time(Phase::kNeighbors);
-    if (near_.stale(w_.particles, nl, wet)) {
+    if (moved ? near_.stale_after(moved->near2, w_.particles, nl, wet)
+              : near_.stale(w_.particles, nl, wet)) {
       // An entry left out is apart: clear it as the force pass would have.
       near_.remake(w_.particles, nl, w_.dt, wet, [&](std::size_t k) {
         forget_if_ended(nl.pairs.shear.data(), nl.pairs.force.data(), pair_moment_.data(),
@@ -177,11 +121,8 @@ void DemSolver<D>::compute_forces() {
       hertz ? pair_forces<HertzNormal, false>() : pair_forces<LinearNormal, false>();
   }
   if (wet) settle_liquid();
-  {
-    auto scope = timers_.time(Phase::kWallForces);
-    hertz ? wall_forces<HertzNormal>() : wall_forces<LinearNormal>();
-    accumulate(wet);
-  }
+  auto scope = timers_.time(Phase::kFinish);
+  return hertz ? finish<HertzNormal>(wet, h_kick) : finish<LinearNormal>(wet, h_kick);
 }
 
 // Before a pass with rolling resistance: each grain's 1 / (I + m R^2), once per step rather
@@ -219,10 +160,10 @@ struct DemSolver<D>::PairPass {
   Rot* moment;
   double* delta;
   // The dry pass adds forces and torques to grains as it goes (see pair_forces), except to
-  // the grains flagged `gathered`, which accumulate() sums from the contacts' slots.
+  // the grains flagged `gathered`, which the gather (GrainPass::sum) sums from the contacts' slots.
   Vec* grain_force;
   Rot* grain_torque;
-  std::uint8_t* gathered;
+  const std::uint8_t* gathered;
   const std::uint32_t *second_begin, *second_pairs;
   PairTableView materials;
   ContactModel model;
@@ -261,20 +202,17 @@ struct DemSolver<D>::PairPass {
     return m;
   }
 
-  // Grains [g0, g1) are this thread's: zero their sums, and flag those that are the second
-  // member of an entry whose first member is another thread's (below g0): another thread
-  // would add to them, in a race and out of order, so they are gathered instead.
+  // Grains [g0, g1) are this thread's: zero their sums.
   void own(std::uint32_t g0, std::uint32_t g1) const {
     for (std::uint32_t g = g0; g < g1; ++g) {
       grain_force[g] = S::zero();
       grain_torque[g] = S::zero_rot();
-      gathered[g] = second_begin[g] < second_begin[g + 1] && i[second_pairs[second_begin[g]]] < g0;
     }
   }
 
   // The force of touching pair k (centre offset d = x_i - x_j, |d|^2 = dist2 < rsum^2), with
   // `cohesion` (<= 0) added to its normal force, stored in the pair's slots (n x F only where
-  // accumulate() will read it: `How`), and summed per grain as `How` says; raises max_ratio
+  // the gather will read it: `How`), and summed per grain as `How` says; raises max_ratio
   // to the overlap over the smaller radius. Shared by the dry and the wet passes.
   template <class Normal, Sum How = Sum::kGather, bool Roll = false>
   [[gnu::always_inline]] void touch(std::size_t k, const Vec& d, double dist2, double rsum,
@@ -300,7 +238,7 @@ struct DemSolver<D>::PairPass {
   }
 
   // Touching pair k's force f on grain a, n x F = m, rolling couple c and overlap: stored in
-  // its slots (n x F only where accumulate() will read it: `How`) and summed per grain as
+  // its slots (n x F only where the gather will read it: `How`) and summed per grain as
   // `How` says; raises max_ratio to the overlap over the smaller radius.
   template <Sum How, bool Roll>
   [[gnu::always_inline]] void add(std::size_t k, std::uint32_t a, std::uint32_t b, const Vec& f,
@@ -309,7 +247,7 @@ struct DemSolver<D>::PairPass {
     force[k] = f;
     delta[k] = overlap;
     if constexpr (How == Sum::kScatter) {
-      // Term for term as accumulate() would add them (see there for the torques).
+      // Term for term as the gather would add them (see GrainPass::sum for the torques).
       grain_force[a] += f;
       grain_torque[a] -= lever_i * m;
       if constexpr (Roll) grain_torque[a] += c;
@@ -457,43 +395,44 @@ typename DemSolver<D>::PairPass DemSolver<D>::pair_pass() {
 // The dry pass. Each thread takes a contiguous block of grains, about an equal share of the
 // near list, and the entries whose first member is one of them (the list is sorted by first
 // member). It adds each contact's force and torque to the two grains as it goes, in list
-// order; a grain's terms come in the order accumulate() sums them (second-member entries,
+// order; a grain's terms come in the order the gather sums them (second-member entries,
 // whose first member is smaller, then first-member ones), so the sums are the same bits for
-// any number of threads. Only the grains another thread's entries reach (flagged in own();
-// none on one thread, a few % on two) are left to accumulate(). Gathering every grain's sum
-// afterwards cost 15 % of the step (perf, docs/BENCHMARKS.md).
+// any number of threads. Only the grains another block's entries reach (flagged `gathered`
+// by split_grains(); none on one thread, a few % on two) are left to the gather. Gathering
+// every grain's sum afterwards cost 15 % of the step (perf, docs/BENCHMARKS.md). The blocks
+// and flags change only when the near list is remade, so the threads never wait for each
+// other inside the pass.
 template <int D>
 template <class Normal, bool Roll>
 void DemSolver<D>::pair_forces() {
-  gathered_.resize(w_.particles.size());
-  PairPass pass = pair_pass();
-  const std::uint32_t* const near = near_.index.data();
-  const std::uint32_t* const first_begin = near_.first_begin.data();
   // The pass clears every grain's sums (own()) as well as visiting the entries: a bed with
   // few contacts is still worth the threads, and clearing them all on one thread would leave
   // the other threads' grains in its cache for the next kick.
-  const auto items = static_cast<std::ptrdiff_t>(near_.index.size() + w_.particles.size());
+  const std::size_t items = near_.index.size() + w_.particles.size();
+  const int blocks = items >= kMinParallelItems ? omp_get_max_threads() : 1;
+  if (split_remake_ != near_.remakes || grain_block_.size() != std::size_t(blocks) + 1 ||
+      gathered_.size() != w_.particles.size())
+    split_grains(blocks);
+  PairPass pass = pair_pass();
+  const std::uint32_t* const near = near_.index.data();
+  const std::uint32_t* const first_begin = near_.first_begin.data();
+  const std::uint32_t* const block = grain_block_.data();
   double max_ratio = 0.0;
   std::size_t touching = 0;
-#pragma omp parallel firstprivate(pass) reduction(max : max_ratio) reduction(+ : touching) \
-    if (items >= kMinParallelItems)
-  {
-    const int threads = omp_get_num_threads();
-#pragma omp single
-    split_grains(threads);
-    const auto t = static_cast<std::size_t>(omp_get_thread_num());
-    const std::uint32_t g0 = grain_block_[t], g1 = grain_block_[t + 1];
+  // A block per thread; with fewer threads than blocks, some take two: the same bits.
+#pragma omp parallel for schedule(static, 1) num_threads(blocks) firstprivate(pass) \
+    reduction(max : max_ratio) reduction(+ : touching) if (blocks > 1)
+  for (int t = 0; t < blocks; ++t) {
+    const std::uint32_t g0 = block[t], g1 = block[t + 1];
     pass.own(g0, g1);
-    // Before any thread reads another's flags (its entries reach later blocks' grains).
-#pragma omp barrier
-    // One thread: no grain is gathered, and the flags need not be read.
     const std::uint32_t m0 = first_begin[g0], m1 = first_begin[g1];
+    // One block: no grain is gathered, and the flags need not be read.
     if constexpr (D == 3 && std::is_same_v<Normal, HertzNormal> && !Roll) {
-      if (threads == 1)
+      if (blocks == 1)
         pass.template entries_in_lanes<Sum::kScatter>(near, m0, m1, max_ratio, touching);
       else
         pass.template entries_in_lanes<Sum::kScatterChecked>(near, m0, m1, max_ratio, touching);
-    } else if (threads == 1) {
+    } else if (blocks == 1) {
       pass.template entries<Normal, Sum::kScatter, Roll>(near, m0, m1, max_ratio, touching);
     } else {
       pass.template entries<Normal, Sum::kScatterChecked, Roll>(near, m0, m1, max_ratio, touching);
@@ -503,22 +442,25 @@ void DemSolver<D>::pair_forces() {
   diag_.touching += touching;
 }
 
-// Blocks of grains for `threads` threads, each with about an equal share of the pass's work:
-// its near-list entries, plus one per grain (own() clears each grain's sums; the grain loops
+// `blocks` blocks of grains for the dry pass, each with about an equal share of its work: its
+// near-list entries, plus one per grain (own() clears each grain's sums; the grain loops
 // of the step split the grains evenly, and a block far from an even split leaves each
 // thread other threads' grains to fetch there). Split by entries alone, a bed whose contacts
 // sit in a few grains (a fall, where only the landed layers touch) gave one thread nearly
 // every grain: two threads took longer than one (docs/BENCHMARKS.md, thirteenth session).
+// Then the flags: a grain is gathered when it is the second member of an entry whose first
+// member is in an earlier block (its first such entry has the smallest first member): that
+// block's thread would add to it, in a race and out of order.
 template <int D>
-void DemSolver<D>::split_grains(int threads) {
+void DemSolver<D>::split_grains(int blocks) {
   const auto& begin = near_.first_begin;  // n + 1 entries
-  const auto n_threads = static_cast<std::size_t>(threads);
+  const auto n_blocks = static_cast<std::size_t>(blocks);
   const std::size_t n = begin.size() - 1;
   const std::size_t work = near_.index.size() + n;  // begin[n] + n
-  grain_block_.assign(n_threads + 1, 0);
-  grain_block_[n_threads] = static_cast<std::uint32_t>(n);
-  for (std::size_t t = 1; t < n_threads; ++t) {
-    const std::size_t share = work * t / n_threads;
+  grain_block_.assign(n_blocks + 1, 0);
+  grain_block_[n_blocks] = static_cast<std::uint32_t>(n);
+  for (std::size_t t = 1; t < n_blocks; ++t) {
+    const std::size_t share = work * t / n_blocks;
     // The last grain g whose work before it, begin[g] + g, is at most the share.
     std::size_t lo = grain_block_[t - 1], hi = n;  // begin[lo] + lo <= share (or lo = first)
     while (hi - lo > 1) {
@@ -527,6 +469,13 @@ void DemSolver<D>::split_grains(int threads) {
     }
     grain_block_[t] = static_cast<std::uint32_t>(lo);
   }
+  const auto& sb = near_.second_begin;
+  const auto& first = w_.neighbors.pairs.i;
+  gathered_.assign(n, 0);
+  for (std::size_t t = 0; t < n_blocks; ++t)
+    for (std::uint32_t g = grain_block_[t]; g < grain_block_[t + 1]; ++g)
+      gathered_[g] = sb[g] < sb[g + 1] && first[near_.second_pairs[sb[g]]] < grain_block_[t];
+  split_remake_ = near_.remakes;
 }
 
 // The grain-pair pass with capillary bridges. As pair_forces, plus: a bridged pair that has
@@ -619,135 +568,6 @@ void DemSolver<D>::settle_liquid() {
     pair_event_[k] = 0;
   }
   events_ = 0;
-}
-
-template <int D>
-template <class Normal>
-void DemSolver<D>::wall_forces() {
-  using S = Space<D>;
-  const auto& p = w_.particles;
-  auto& wl = w_.neighbors.wall_pairs;
-  const double dt = w_.dt;
-  const bool rolling = w_.model.rolling != RollingModel::kNone;
-  const auto n_pairs = static_cast<std::ptrdiff_t>(wl.size());
-  double max_ratio = 0.0;
-  std::size_t touching = 0;
-  // Static, like the grain loops, so that each thread keeps to its own half of the grains. A
-  // dynamic split balanced the touching contacts better (this loop ran twice as fast on two
-  // threads) but made the whole step 5-7 % slower whenever the VM ran slow, which the
-  // static split does not (docs/BENCHMARKS.md, tenth session).
-#pragma omp parallel for schedule(static) reduction(max : max_ratio) reduction(+ : touching) \
-    if (n_pairs >= kMinParallelItems)
-  for (std::ptrdiff_t kk = 0; kk < n_pairs; ++kk) {
-    const auto k = static_cast<std::size_t>(kk);
-    const std::uint32_t i = wl.i[k];
-    const Wall<D>& wall = w_.walls[wl.wall[k]];
-    ContactGeometry<D> g;
-    const double dist = wall.distance(p.x[i], g.n);
-    g.delta = p.radius[i] - dist;
-    if (g.delta <= 0.0) {
-      if (rolling && wall_delta_[k] != 0.0) {
-        wl.roll[k] = S::zero_rot();
-        wall_roll_[k] = S::zero_rot();
-      }
-      forget_if_ended(wl.shear.data(), wl.force.data(), wall_moment_.data(), wall_delta_.data(), k,
-                      S::zero_rot());
-      continue;
-    }
-    // The lever arm is -(R_i - delta/2) n (see PairPass::touch).
-    g.vrel = p.v[i] - wall.velocity - S::spin_velocity((p.radius[i] - 0.5 * g.delta) * p.w[i], g.n);
-    g.r_eff = p.radius[i];
-    g.m_eff = p.mass[i];
-    const PairParams& pp = w_.materials.pair(p.material[i], wall.material);
-    const typename S::Vec f = contact_force<D, Normal>(g, pp, w_.model, dt, wl.shear[k]);
-    wl.force[k] = f;
-    wall_moment_[k] = S::moment(g.n, f);
-    wall_delta_[k] = g.delta;
-    if (rolling) {  // the wall does not turn: the relative spin is the grain's
-      typename S::Rot c = S::zero_rot();
-      if (pp.rolling_friction != 0.0) {
-        const RollingCoeffs rc = rolling_coeffs(
-            pp.rolling_friction, w_.model.rolling_damping, g.r_eff,
-            Normal::stiffness(pp, w_.model, g.delta, g.r_eff), f.dot(g.n), roll_inv_ic_[i], 0.0);
-        c = rolling_moment<D>(g.n, p.w[i], rc, dt, wl.roll[k]);
-      } else {
-        wl.roll[k] = c;
-      }
-      wall_roll_[k] = c;
-    }
-    max_ratio = std::max(max_ratio, g.delta / p.radius[i]);
-    ++touching;
-  }
-  diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
-  diag_.touching += touching;
-}
-
-// Pass 2: each grain's sum, from its contacts' slots, for every grain (`all`: the wet pass)
-// or only those the dry pass left (`gathered_`); the others get their walls' terms added to
-// the pass's sums. The torque of force F at lever arm -(R - delta/2) n is
-// -(R - delta/2) (n x F) for the first grain; the second grain gets -F at +(R - delta/2) n:
-// the same sign, its own R. A grain's terms are summed in list order: the entries where it
-// is the second member (their first member has a smaller index, so they come first in the
-// list), then those where it is the first, then its walls; the dry pass meets them in that
-// order too, so either way the bits are the same.
-template <int D>
-void DemSolver<D>::accumulate(bool all) {
-  using S = Space<D>;
-  auto& p = w_.particles;
-  const auto& nl = w_.neighbors;
-  const auto n = static_cast<std::ptrdiff_t>(p.size());
-  typename S::Vec* const force = p.f.data();
-  typename S::Rot* const torque = p.t.data();
-  const double* const radius = p.radius.data();
-  const std::uint32_t* const near = near_.index.data();
-  const std::uint32_t* const first_begin = near_.first_begin.data();
-  const std::uint32_t* const second_begin = near_.second_begin.data();
-  const std::uint32_t* const second_pairs = near_.second_pairs.data();
-  const std::uint32_t* const wall_begin = nl.wall_begin.data();
-  const typename S::Vec* const pair_force = nl.pairs.force.data();
-  const typename S::Rot* const pair_moment = pair_moment_.data();
-  const double* const pair_delta = pair_delta_.data();
-  const typename S::Vec* const wall_force = nl.wall_pairs.force.data();
-  const typename S::Rot* const wall_moment = wall_moment_.data();
-  const double* const wall_delta = wall_delta_.data();
-  const std::uint8_t* const gathered = gathered_.data();
-  // Rolling resistance: each contact's couple follows its force's torque (+ on the first
-  // grain, - on the second), as the dry pass adds them.
-  const bool rolling = w_.model.rolling != RollingModel::kNone;
-  const typename S::Rot* const pair_roll = pair_roll_.data();
-  const typename S::Rot* const wall_roll = wall_roll_.data();
-#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
-  for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    const bool full = all || gathered[i];
-    if (!full && wall_begin[i] == wall_begin[i + 1]) continue;  // the pass's sum is final
-    typename S::Vec f = full ? S::zero() : force[i];
-    typename S::Rot t = full ? S::zero_rot() : torque[i];
-    const double r = radius[i];
-    for (std::uint32_t s = second_begin[i]; full && s < second_begin[i + 1]; ++s) {
-      const std::uint32_t k = second_pairs[s];
-      f -= pair_force[k];
-      t -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
-      if (rolling) t -= pair_roll[k];
-    }
-    for (std::uint32_t m = first_begin[i]; full && m < first_begin[i + 1]; ++m) {
-      const std::uint32_t k = near[m];
-      f += pair_force[k];
-      t -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
-      if (rolling) t += pair_roll[k];
-    }
-    for (std::uint32_t k = wall_begin[i]; k < wall_begin[i + 1]; ++k) {
-      f += wall_force[k];
-      t -= (r - 0.5 * wall_delta[k]) * wall_moment[k];
-      if (rolling) t += wall_roll[k];
-    }
-    force[i] = f;
-    torque[i] = t;
-  }
-  // Walls: a short sequential sum in list order (deterministic).
-  for (auto& wall : w_.walls) wall.force.setZero();
-  for (std::size_t k = 0; k < nl.wall_pairs.size(); ++k)
-    w_.walls[nl.wall_pairs.wall[k]].force -= nl.wall_pairs.force[k];
 }
 
 template class DemSolver<2>;

@@ -7,6 +7,23 @@
 
 namespace sable {
 
+namespace dem_detail {
+
+// Contact slot k is apart. A contact that has just ended forgets its history; slots already
+// apart hold zeros and are not written again (most candidates are apart: this saves
+// bandwidth). Grain pairs and wall pairs alike, through their arrays' addresses.
+template <class Vec, class Rot>
+inline void forget_if_ended(Vec* shear, Vec* force, Rot* moment, double* delta, std::size_t k,
+                            const Rot& zero) {
+  if (delta[k] == 0.0) return;
+  shear[k].setZero();
+  force[k].setZero();
+  moment[k] = zero;
+  delta[k] = 0.0;
+}
+
+}  // namespace dem_detail
+
 template <int D>
 class DemSolver final : public Solver {
  public:
@@ -18,39 +35,55 @@ class DemSolver final : public Solver {
   const PhaseTimers& timers() const override { return timers_; }
 
   // Forces and torques at the current positions and velocities (also updates contact history).
-  void compute_forces();
+  void compute_forces() { (void)forces(nullptr, 0.0); }
 
  private:
-  void kick(double h);
-  void kick_drift(double h, double h_drift);
+  // Below this many grains or contacts a loop runs on one thread: waking a thread team costs
+  // more than the work. The result is the same bits either way.
+  static constexpr std::ptrdiff_t kMinParallelItems = 2048;
+
+  // The grains' largest squared displacements since the neighbour list's and the near list's
+  // reference positions, measured in the drift loop (outer2 < 0: the neighbour list has no
+  // reference for every grain; near2 is read only when the near list has one).
+  struct Moved {
+    double outer2 = -1.0, near2 = 0.0;
+  };
+  Moved kick_drift(double h_kick, double h_drift);
+  bool forces(const Moved* moved, double h_kick);
+  template <class Normal>
+  bool finish(bool all, double h_kick);
+  template <class Normal>
+  void wall_contact(std::size_t k, double& max_ratio, std::size_t& touching);
+  struct GrainPass;
+  GrainPass grain_pass(bool all, double h_kick);
   template <class Normal, bool Roll>
   void pair_forces();
-  void split_grains(int threads);
+  void split_grains(int blocks);
   template <class Normal>
   void wet_pair_forces();
   struct PairPass;
   PairPass pair_pass();
-  template <class Normal>
-  void wall_forces();
-  void accumulate(bool all);
   void prepare_rolling(bool wet);
   void settle_liquid();
 
   World<D>& w_;
   StepDiagnostics diag_;
   PhaseTimers timers_;
-  // Per-contact scratch of the force pass (n x F and overlap), read by the accumulation pass.
-  // n x F is written only for the contacts accumulate() reads (every one in wet runs; in dry
-  // runs those of gathered grains): elsewhere it may be stale. Apart entries hold zeros.
+  // Per-contact scratch of the force pass (n x F and overlap), read by the gather (GrainPass::sum,
+  // dem/grain_loops.cpp). n x F is written only for the contacts the gather reads (every one in wet
+  // runs; in dry runs those of gathered grains): elsewhere it may be stale. Apart entries hold
+  // zeros.
   std::vector<typename Space<D>::Rot> pair_moment_, wall_moment_;
   std::vector<double> pair_delta_, wall_delta_;  // 0 apart, > 0 overlap, -1 unknown
-  // Rolling resistance only: each contact's couple on its first grain (read by accumulate()
+  // Rolling resistance only: each contact's couple on its first grain (read by the gather
   // like n x F; apart entries hold zeros), and per grain 1 / (I + m R^2).
   std::vector<typename Space<D>::Rot> pair_roll_, wall_roll_;
   std::vector<double> roll_inv_ic_;
   // The dry pass's blocks of grains, one per thread, and the grains it leaves to the gather.
+  // Both follow the near list: split_grains() makes them again after each remake.
   std::vector<std::uint32_t> grain_block_;
   std::vector<std::uint8_t> gathered_;
+  std::uint64_t split_remake_ = ~std::uint64_t{0};
   // Capillary bridges: per pair, a bridge event of this step (kBridgeFormed / kBridgeBroken),
   // applied in list order after the force pass; events_ counts them (0: nothing to scan).
   std::vector<std::uint8_t> pair_event_;

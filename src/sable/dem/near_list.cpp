@@ -9,11 +9,17 @@ namespace sable {
 
 template <int D>
 bool NearList<D>::stale(const ParticleStore<D>& p, const NeighborList<D>& nl, bool keep_all) const {
+  const bool measure = !keep_all && x_ref_.size() == p.size();
+  return stale_after(measure ? max_displacement2<D>(p.x, x_ref_) : 0.0, p, nl, keep_all);
+}
+
+template <int D>
+bool NearList<D>::stale_after(double max_d2, const ParticleStore<D>& p, const NeighborList<D>& nl,
+                              bool keep_all) const {
   if (outer_build_ != nl.builds || outer_size_ != nl.pairs.size() || x_ref_.size() != p.size() ||
       kept_all_ != keep_all)
     return true;
   if (keep_all) return false;  // every candidate is in: only a rebuild changes that
-  const double max_d2 = max_displacement2<D>(p.x, x_ref_);
   // Two grains close in by at most twice the largest displacement.
   return 4.0 * max_d2 >= skin * skin;
 }

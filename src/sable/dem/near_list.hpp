@@ -48,6 +48,12 @@ class NearList {
   // True when the near list no longer holds every pair that can touch: the neighbour list
   // was rebuilt since, the grains changed, or some grain moved half an inner skin.
   bool stale(const ParticleStore<D>& p, const NeighborList<D>& nl, bool keep_all) const;
+  // The same test, given the grains' largest squared displacement since reference() (read
+  // only when reference() holds every grain): the DEM step measures it in its drift loop.
+  bool stale_after(double max_d2, const ParticleStore<D>& p, const NeighborList<D>& nl,
+                   bool keep_all) const;
+  // The positions at the last remake.
+  const std::vector<Vec>& reference() const { return x_ref_; }
 
   // Remake from the neighbour list at the current positions; `drop(k)` for every pair entry
   // k left out, in parallel (drop(k) may touch entry k only). `dt` sizes the inner skin from

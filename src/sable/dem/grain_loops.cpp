@@ -1,0 +1,257 @@
+// The DEM step's loops over grains (dem_solver.cpp holds the step itself and the pair passes):
+//   - the opening loop: the first half kick and the drift, measuring on the way how far the
+//     grains have moved since the two lists' reference positions;
+//   - the closing loop: per grain, its wall contacts, the sum of its forces and torques, the
+//     second half kick and the check of its state.
+// Each used to be several passes over every grain (kick and drift, two displacement scans;
+// wall contacts, gather, kick, state scan), each reading the grains' arrays again and each
+// a meeting of the thread team. A grain's operations are those of the separate passes, in
+// the same order, and no grain's depend on another's: the same bits, for any number of
+// threads.
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "sable/contact/contact_model.hpp"
+#include "sable/dem/dem_solver.hpp"
+#include "sable/world/guards.hpp"
+
+namespace sable {
+
+// What the grain loops read and write, as raw pointers and plain copies taken once per loop
+// (reached through w_, every vector store would make the compiler fetch each array's address
+// again: see PairPass in dem_solver.cpp). Each thread works on its own copy (firstprivate).
+template <int D>
+struct DemSolver<D>::GrainPass {
+  using S = Space<D>;
+  using Vec = typename S::Vec;
+  using Rot = typename S::Rot;
+  Vec *x, *v;
+  typename S::Orientation* q;
+  Rot* w;
+  Vec* f;
+  Rot* t;
+  const double *inv_mass, *inv_inertia, *radius;
+  Vec gravity;
+  double keep;  // background damping over a half kick: 1 / (1 + nu h)
+  double max_speed;
+  // The gather: grain i's contacts, in the order of NearList's incidence and wall_begin.
+  const std::uint32_t *near, *first_begin, *second_begin, *second_pairs, *wall_begin;
+  const Vec *pair_force, *wall_force;
+  const Rot *pair_moment, *wall_moment, *pair_roll, *wall_roll;
+  const double *pair_delta, *wall_delta;
+  const std::uint8_t* gathered;
+  bool all, rolling;
+
+  // v += h a, w += h alpha: a half kick; gravity enters as an acceleration. The background
+  // damping -m nu v, -I nu w is taken implicitly (v_new feels it): stable for any nu h.
+  // False for a grain that does not move (infinite mass).
+  [[gnu::always_inline]] bool kick(std::size_t k, double h) const {
+    if (inv_mass[k] == 0.0) return false;
+    v[k] += h * (f[k] * inv_mass[k] + gravity);
+    w[k] += h * inv_inertia[k] * t[k];
+    if (keep != 1.0) {
+      v[k] *= keep;
+      w[k] *= keep;
+    }
+    return true;
+  }
+
+  // Grain i's sum, from its contacts' slots, when the pair pass did not make it (`all`: the
+  // wet pass; else the grains flagged `gathered`); the others get their walls' terms added
+  // to the pair pass's sums. The torque of force F at lever arm -(R - delta/2) n is
+  // -(R - delta/2) (n x F) for the first grain; the second grain gets -F at +(R - delta/2) n:
+  // the same sign, its own R. A grain's terms are summed in list order: the entries where it
+  // is the second member (their first member has a smaller index, so they come first in the
+  // list), then those where it is the first, then its walls; the dry pass meets them in that
+  // order too, so either way the bits are the same. Rolling resistance: each contact's couple
+  // follows its force's torque (+ on the first grain, - on the second).
+  [[gnu::always_inline]] void sum(std::size_t i) const {
+    const bool full = all || gathered[i];
+    if (!full && wall_begin[i] == wall_begin[i + 1]) return;  // the pass's sum is final
+    Vec fi = full ? S::zero() : f[i];
+    Rot ti = full ? S::zero_rot() : t[i];
+    const double r = radius[i];
+    for (std::uint32_t s = second_begin[i]; full && s < second_begin[i + 1]; ++s) {
+      const std::uint32_t k = second_pairs[s];
+      fi -= pair_force[k];
+      ti -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
+      if (rolling) ti -= pair_roll[k];
+    }
+    for (std::uint32_t m = first_begin[i]; full && m < first_begin[i + 1]; ++m) {
+      const std::uint32_t k = near[m];
+      fi += pair_force[k];
+      ti -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
+      if (rolling) ti += pair_roll[k];
+    }
+    for (std::uint32_t k = wall_begin[i]; k < wall_begin[i + 1]; ++k) {
+      fi += wall_force[k];
+      ti -= (r - 0.5 * wall_delta[k]) * wall_moment[k];
+      if (rolling) ti += wall_roll[k];
+    }
+    f[i] = fi;
+    t[i] = ti;
+  }
+
+  // What check_grain_states() tests (world/guards.hpp).
+  [[gnu::always_inline]] bool sound(std::size_t k) const {
+    return motion_ok<D>(v[k], w[k], max_speed) && position_ok<D>(x[k]);
+  }
+};
+
+template <int D>
+typename DemSolver<D>::GrainPass DemSolver<D>::grain_pass(bool all, double h_kick) {
+  auto& p = w_.particles;
+  const auto& nl = w_.neighbors;
+  const double keep = w_.viscous_rate > 0.0 ? 1.0 / (1.0 + w_.viscous_rate * h_kick) : 1.0;
+  return {p.x.data(),
+          p.v.data(),
+          p.q.data(),
+          p.w.data(),
+          p.f.data(),
+          p.t.data(),
+          p.inv_mass.data(),
+          p.inv_inertia.data(),
+          p.radius.data(),
+          w_.gravity,
+          keep,
+          w_.max_speed,
+          near_.index.data(),
+          near_.first_begin.data(),
+          near_.second_begin.data(),
+          near_.second_pairs.data(),
+          nl.wall_begin.data(),
+          nl.pairs.force.data(),
+          nl.wall_pairs.force.data(),
+          pair_moment_.data(),
+          wall_moment_.data(),
+          pair_roll_.data(),
+          wall_roll_.data(),
+          pair_delta_.data(),
+          wall_delta_.data(),
+          gathered_.data(),
+          all,
+          w_.model.rolling != RollingModel::kNone};
+}
+
+// The first phase of every step: a half kick by h_kick, a drift by h_drift, and the largest
+// squared displacements since the lists' reference positions (which the lists' "may an
+// unseen pair touch now?" tests need), in one loop: each grain's position and velocity are
+// read once instead of three times.
+template <int D>
+typename DemSolver<D>::Moved DemSolver<D>::kick_drift(double h_kick, double h_drift) {
+  using S = Space<D>;
+  GrainPass pass = grain_pass(false, h_kick);
+  const auto n = static_cast<std::ptrdiff_t>(w_.particles.size());
+  const auto& outer_ref = w_.neighbors.x_ref;
+  const auto& near_ref = near_.reference();
+  const typename S::Vec* const outer =
+      outer_ref.size() == w_.particles.size() ? outer_ref.data() : nullptr;
+  const typename S::Vec* const inner =
+      near_ref.size() == w_.particles.size() ? near_ref.data() : nullptr;
+  const bool turning = w_.track_orientation;
+  double outer2 = 0.0, near2 = 0.0;  // maxima: exact whatever the order
+  // (clang-format breaks the reduction clause apart)
+  // clang-format off
+#pragma omp parallel for schedule(static) firstprivate(pass) \
+    reduction(max : outer2, near2) if (n >= kMinParallelItems)
+  // clang-format on
+  for (std::ptrdiff_t kk = 0; kk < n; ++kk) {
+    const auto k = static_cast<std::size_t>(kk);
+    if (pass.kick(k, h_kick)) {
+      pass.x[k] += h_drift * pass.v[k];
+      if (turning) pass.q[k] = S::rotate(pass.q[k], pass.w[k], h_drift);
+    }
+    if (outer) outer2 = std::max(outer2, (pass.x[k] - outer[k]).squaredNorm());
+    if (inner) near2 = std::max(near2, (pass.x[k] - inner[k]).squaredNorm());
+  }
+  return {outer ? outer2 : -1.0, near2};
+}
+
+// The step's closing loop over the grains: per grain, its wall contacts, its sums (see
+// GrainPass::sum), the second half kick by h_kick (none when 0: forces only) and the check of
+// its state; true when some grain's state is unsound (check_grain_states() then names it).
+// Then each wall's total force, in list order.
+template <int D>
+template <class Normal>
+bool DemSolver<D>::finish(bool all, double h_kick) {
+  GrainPass pass = grain_pass(all, h_kick);
+  const auto n = static_cast<std::ptrdiff_t>(w_.particles.size());
+  double max_ratio = 0.0;
+  std::size_t touching = 0;
+  int bad = 0;
+#pragma omp parallel for schedule(static) firstprivate(pass) reduction(max : max_ratio) \
+    reduction(+ : touching) reduction(| : bad) if (n >= kMinParallelItems)
+  for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    for (std::uint32_t k = pass.wall_begin[i]; k < pass.wall_begin[i + 1]; ++k)
+      wall_contact<Normal>(k, max_ratio, touching);
+    pass.sum(i);
+    if (h_kick > 0.0) pass.kick(i, h_kick);
+    bad |= pass.sound(i) ? 0 : 1;
+  }
+  diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
+  diag_.touching += touching;
+  const auto& wl = w_.neighbors.wall_pairs;
+  for (auto& wall : w_.walls) wall.force.setZero();
+  for (std::size_t k = 0; k < wl.size(); ++k) w_.walls[wl.wall[k]].force -= wl.force[k];
+  return bad != 0;
+}
+
+// Wall pair k's contact: its force on the grain, n x F and overlap stored in its slots (for
+// the grain's sum), and its rolling couple; raises max_ratio to the overlap over the radius.
+template <int D>
+template <class Normal>
+void DemSolver<D>::wall_contact(std::size_t k, double& max_ratio, std::size_t& touching) {
+  using S = Space<D>;
+  const auto& p = w_.particles;
+  auto& wl = w_.neighbors.wall_pairs;
+  const bool rolling = w_.model.rolling != RollingModel::kNone;
+  const std::uint32_t i = wl.i[k];
+  const Wall<D>& wall = w_.walls[wl.wall[k]];
+  ContactGeometry<D> g;
+  const double dist = wall.distance(p.x[i], g.n);
+  g.delta = p.radius[i] - dist;
+  if (g.delta <= 0.0) {
+    if (rolling && wall_delta_[k] != 0.0) {
+      wl.roll[k] = S::zero_rot();
+      wall_roll_[k] = S::zero_rot();
+    }
+    dem_detail::forget_if_ended(wl.shear.data(), wl.force.data(), wall_moment_.data(),
+                                wall_delta_.data(), k, S::zero_rot());
+    return;
+  }
+  // The lever arm is -(R_i - delta/2) n (see PairPass::touch).
+  g.vrel = p.v[i] - wall.velocity - S::spin_velocity((p.radius[i] - 0.5 * g.delta) * p.w[i], g.n);
+  g.r_eff = p.radius[i];
+  g.m_eff = p.mass[i];
+  const PairParams& pp = w_.materials.pair(p.material[i], wall.material);
+  const typename S::Vec f = contact_force<D, Normal>(g, pp, w_.model, w_.dt, wl.shear[k]);
+  wl.force[k] = f;
+  wall_moment_[k] = S::moment(g.n, f);
+  wall_delta_[k] = g.delta;
+  if (rolling) {  // the wall does not turn: the relative spin is the grain's
+    typename S::Rot c = S::zero_rot();
+    if (pp.rolling_friction != 0.0) {
+      const RollingCoeffs rc = rolling_coeffs(
+          pp.rolling_friction, w_.model.rolling_damping, g.r_eff,
+          Normal::stiffness(pp, w_.model, g.delta, g.r_eff), f.dot(g.n), roll_inv_ic_[i], 0.0);
+      c = rolling_moment<D>(g.n, p.w[i], rc, w_.dt, wl.roll[k]);
+    } else {
+      wl.roll[k] = c;
+    }
+    wall_roll_[k] = c;
+  }
+  max_ratio = std::max(max_ratio, g.delta / p.radius[i]);
+  ++touching;
+}
+
+template DemSolver<2>::Moved DemSolver<2>::kick_drift(double, double);
+template DemSolver<3>::Moved DemSolver<3>::kick_drift(double, double);
+template bool DemSolver<2>::finish<HertzNormal>(bool, double);
+template bool DemSolver<2>::finish<LinearNormal>(bool, double);
+template bool DemSolver<3>::finish<HertzNormal>(bool, double);
+template bool DemSolver<3>::finish<LinearNormal>(bool, double);
+
+}  // namespace sable
