@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include <omp.h>
 
@@ -114,7 +115,9 @@ TEST(DemBasics, OrientationTrackingChangesNothingElse) {
 // grains on a lattice with 2 % overlaps, on a floor, with random velocities and spins from a
 // fixed LCG (the same draws for every run). 50 steps on `threads` threads; returns the
 // solver's touching count of the last step.
-std::size_t run_lattice_bed(sable::World<3>& w, int threads, double spacing = 1.96) {
+std::size_t run_lattice_bed(sable::World<3>& w, int threads, double spacing = 1.96,
+                            std::vector<double> shares = {},
+                            std::vector<std::uint32_t>* cut = nullptr) {
   const double r = 0.2e-3, a = spacing * r;
   std::uint64_t seed = 12345;
   auto jitter = [&seed]() {
@@ -136,9 +139,14 @@ std::size_t run_lattice_bed(sable::World<3>& w, int threads, double spacing = 1.
   const int before = omp_get_max_threads();
   omp_set_num_threads(threads);
   sable::DemSolver<3> s(w);
+  if (!shares.empty()) s.fix_thread_shares(std::move(shares));
   s.initialize();
   for (int k = 0; k < 50; ++k) s.step();
   omp_set_num_threads(before);
+  if (cut) {
+    const sable::GrainSplit& split = s.grain_split();
+    cut->assign(split.bounds(), split.bounds() + split.blocks() + 1);
+  }
   return s.diagnostics().touching;
 }
 
@@ -155,6 +163,33 @@ TEST(DemBasics, ThreadCountDoesNotChangeABit) {
   };
   const std::uint64_t one = run(1);
   for (int threads : {2, 3, 4}) EXPECT_EQ(run(threads), one) << threads << " threads";
+}
+
+// The threads' shares of the grains follow their measured speeds (dem/grain_split.hpp), so
+// the cut between their blocks changes from run to run; the results must not. The bed of
+// ThreadCountDoesNotChangeABit with deliberately lopsided fixed shares, the cut far from where
+// an even split or the measured speeds would put it (a block of 10 % of the work, thousands
+// of grains gathered from another block): the same state hash as one thread, exactly. Also
+// in the dilute bed, where the grain loops are cut by grain count alone.
+TEST(DemBasics, LopsidedThreadSharesDoNotChangeABit) {
+  const std::vector<std::vector<double>> lopsided{{0.1, 0.9}, {0.85, 0.15}, {0.6, 0.1, 0.3}};
+  for (double spacing : {1.96, 2.5}) {
+    auto base = world_with_material(0.5, 0.5);
+    run_lattice_bed(base, 1, spacing);
+    const std::uint64_t one = sable::state_hash(base);
+    for (const auto& shares : lopsided) {
+      auto w = world_with_material(0.5, 0.5);
+      std::vector<std::uint32_t> cut;
+      run_lattice_bed(w, static_cast<int>(shares.size()), spacing, shares, &cut);
+      EXPECT_EQ(sable::state_hash(w), one)
+          << "spacing " << spacing << ", shares " << shares[0] << ", " << shares[1];
+      // The cut really is lopsided: block 0 holds its share of the grains to 0.05 (the work
+      // per grain varies a little with depth: 3,072 grains, ~3 entries each).
+      ASSERT_EQ(cut.size(), shares.size() + 1);
+      const double n = static_cast<double>(w.particles.size());
+      EXPECT_NEAR(cut[1] / n, shares[0], 0.05) << "spacing " << spacing;
+    }
+  }
 }
 
 // A dilute bed: the lattice spread out (gaps of half a radius, within the list's skin but

@@ -54,6 +54,7 @@ void DemSolver<D>::step() {
       w_.neighbors.build(w_.particles, w_.walls);
   }
   const bool unsound = forces(&moved, 0.5 * h);  // and the closing half kick
+  split_.end_step();                             // the threads' times: the next cut
   w_.time += h;
   ++w_.step;
   if (unsound) check_grain_states(w_);  // names the first unsound grain and throws
@@ -398,7 +399,7 @@ typename DemSolver<D>::PairPass DemSolver<D>::pair_pass() {
 // order; a grain's terms come in the order the gather sums them (second-member entries,
 // whose first member is smaller, then first-member ones), so the sums are the same bits for
 // any number of threads. Only the grains another block's entries reach (flagged `gathered`
-// by split_grains(); none on one thread, a few % on two) are left to the gather. Gathering
+// by update_split(); none on one thread, a few % on two) are left to the gather. Gathering
 // every grain's sum afterwards cost 15 % of the step (perf, docs/BENCHMARKS.md). The blocks
 // and flags change only when the near list is remade, so the threads never wait for each
 // other inside the pass.
@@ -408,73 +409,73 @@ void DemSolver<D>::pair_forces() {
   // The pass clears every grain's sums (own()) as well as visiting the entries: a bed with
   // few contacts is still worth the threads, and clearing them all on one thread would leave
   // the other threads' grains in its cache for the next kick.
-  const std::size_t items = near_.index.size() + w_.particles.size();
-  const int blocks = items >= kMinParallelItems ? omp_get_max_threads() : 1;
-  if (split_remake_ != near_.remakes || grain_block_.size() != std::size_t(blocks) + 1 ||
-      gathered_.size() != w_.particles.size())
-    split_grains(blocks);
+  update_split();
+  const int blocks = split_.blocks();
   PairPass pass = pair_pass();
   const std::uint32_t* const near = near_.index.data();
   const std::uint32_t* const first_begin = near_.first_begin.data();
-  const std::uint32_t* const block = grain_block_.data();
+  const std::uint32_t* const block = split_.bounds();
   double max_ratio = 0.0;
   std::size_t touching = 0;
-  // A block per thread; with fewer threads than blocks, some take two: the same bits.
-#pragma omp parallel for schedule(static, 1) num_threads(blocks) firstprivate(pass) \
-    reduction(max : max_ratio) reduction(+ : touching) if (blocks > 1)
-  for (int t = 0; t < blocks; ++t) {
-    const std::uint32_t g0 = block[t], g1 = block[t + 1];
-    pass.own(g0, g1);
-    const std::uint32_t m0 = first_begin[g0], m1 = first_begin[g1];
-    // One block: no grain is gathered, and the flags need not be read.
-    if constexpr (D == 3 && std::is_same_v<Normal, HertzNormal> && !Roll) {
-      if (blocks == 1)
-        pass.template entries_in_lanes<Sum::kScatter>(near, m0, m1, max_ratio, touching);
-      else
-        pass.template entries_in_lanes<Sum::kScatterChecked>(near, m0, m1, max_ratio, touching);
-    } else if (blocks == 1) {
-      pass.template entries<Normal, Sum::kScatter, Roll>(near, m0, m1, max_ratio, touching);
-    } else {
-      pass.template entries<Normal, Sum::kScatterChecked, Roll>(near, m0, m1, max_ratio, touching);
+#pragma omp parallel num_threads(blocks) firstprivate(pass) reduction(max : max_ratio) \
+    reduction(+ : touching) if (blocks > 1)
+  {
+    // A block per thread; with fewer threads than blocks, some take two: the same bits.
+    const int team = omp_get_num_threads();
+    for (int t = omp_get_thread_num(); t < blocks; t += team) {
+      const double start = omp_get_wtime();
+      const std::uint32_t g0 = block[t], g1 = block[t + 1];
+      pass.own(g0, g1);
+      const std::uint32_t m0 = first_begin[g0], m1 = first_begin[g1];
+      // One block: no grain is gathered, and the flags need not be read.
+      if constexpr (D == 3 && std::is_same_v<Normal, HertzNormal> && !Roll) {
+        if (blocks == 1)
+          pass.template entries_in_lanes<Sum::kScatter>(near, m0, m1, max_ratio, touching);
+        else
+          pass.template entries_in_lanes<Sum::kScatterChecked>(near, m0, m1, max_ratio, touching);
+      } else if (blocks == 1) {
+        pass.template entries<Normal, Sum::kScatter, Roll>(near, m0, m1, max_ratio, touching);
+      } else {
+        pass.template entries<Normal, Sum::kScatterChecked, Roll>(near, m0, m1, max_ratio,
+                                                                  touching);
+      }
+      if (team == blocks) split_.add_busy(t, omp_get_wtime() - start);
     }
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
   diag_.touching += touching;
 }
 
-// `blocks` blocks of grains for the dry pass, each with about an equal share of its work: its
-// near-list entries, plus one per grain (own() clears each grain's sums; the grain loops
-// of the step split the grains evenly, and a block far from an even split leaves each
-// thread other threads' grains to fetch there). Split by entries alone, a bed whose contacts
-// sit in a few grains (a fall, where only the landed layers touch) gave one thread nearly
-// every grain: two threads took longer than one (docs/BENCHMARKS.md, thirteenth session).
-// Then the flags: a grain is gathered when it is the second member of an entry whose first
-// member is in an earlier block (its first such entry has the smallest first member): that
-// block's thread would add to it, in a race and out of order.
+// The blocks of grains of the step's loops (dem/grain_split.hpp), cut again after a near-list
+// remake, when the grain or the thread count changed, or when the threads' measured speeds
+// ask for it. Each block gets its share of the work: its near-list entries, plus one per
+// grain (own() clears each grain's sums, and the grain loops take the same blocks). Cut by
+// entries alone, a bed whose contacts sit in a few grains (a fall, where only the landed
+// layers touch) gave one thread nearly every grain: two threads took longer than one
+// (docs/BENCHMARKS.md, thirteenth session). Then the flags: a grain is gathered when it is
+// the second member of an entry whose first member is in an earlier block (its first such
+// entry has the smallest first member): that block's thread would add to it, in a race and
+// out of order. Grains the near list does not hold yet (just inserted; the list is remade
+// before the pair pass) are cut by count, and the cut is made again once it holds them.
 template <int D>
-void DemSolver<D>::split_grains(int blocks) {
-  const auto& begin = near_.first_begin;  // n + 1 entries
-  const auto n_blocks = static_cast<std::size_t>(blocks);
-  const std::size_t n = begin.size() - 1;
-  const std::size_t work = near_.index.size() + n;  // begin[n] + n
-  grain_block_.assign(n_blocks + 1, 0);
-  grain_block_[n_blocks] = static_cast<std::uint32_t>(n);
-  for (std::size_t t = 1; t < n_blocks; ++t) {
-    const std::size_t share = work * t / n_blocks;
-    // The last grain g whose work before it, begin[g] + g, is at most the share.
-    std::size_t lo = grain_block_[t - 1], hi = n;  // begin[lo] + lo <= share (or lo = first)
-    while (hi - lo > 1) {
-      const std::size_t mid = lo + (hi - lo) / 2;
-      (begin[mid] + mid <= share ? lo : hi) = mid;
-    }
-    grain_block_[t] = static_cast<std::uint32_t>(lo);
+void DemSolver<D>::update_split() {
+  const std::size_t n = w_.particles.size();
+  const std::size_t items = near_.index.size() + n;
+  const int blocks = items >= kMinParallelItems ? omp_get_max_threads() : 1;
+  if (split_remake_ == near_.remakes && split_.fits(n, blocks)) return;
+  const auto& begin = near_.first_begin;  // n + 1 offsets when the list holds every grain
+  split_.cut(n, blocks, begin);
+  gathered_.assign(n, 0);
+  if (begin.size() != n + 1) {
+    split_remake_ = ~std::uint64_t{0};
+    return;
   }
   const auto& sb = near_.second_begin;
   const auto& first = w_.neighbors.pairs.i;
-  gathered_.assign(n, 0);
-  for (std::size_t t = 0; t < n_blocks; ++t)
-    for (std::uint32_t g = grain_block_[t]; g < grain_block_[t + 1]; ++g)
-      gathered_[g] = sb[g] < sb[g + 1] && first[near_.second_pairs[sb[g]]] < grain_block_[t];
+  const std::uint32_t* const bound = split_.bounds();
+  for (int t = 1; t < blocks; ++t)
+    for (std::uint32_t g = bound[t]; g < bound[t + 1]; ++g)
+      gathered_[g] = sb[g] < sb[g + 1] && first[near_.second_pairs[sb[g]]] < bound[t];
   split_remake_ = near_.remakes;
 }
 

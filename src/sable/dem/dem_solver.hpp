@@ -1,6 +1,7 @@
 // Soft-contact DEM: velocity Verlet over grains, contact forces from the World's contact law.
 #pragma once
 
+#include "sable/dem/grain_split.hpp"
 #include "sable/dem/near_list.hpp"
 #include "sable/world/solver.hpp"
 #include "sable/world/world.hpp"
@@ -37,6 +38,13 @@ class DemSolver final : public Solver {
   // Forces and torques at the current positions and velocities (also updates contact history).
   void compute_forces() { (void)forces(nullptr, 0.0); }
 
+  // Fixed shares of the work per thread (one per thread, normalised) instead of shares that
+  // follow the threads' measured speeds (dem/grain_split.hpp). For tests: the results are the
+  // same bits for any shares.
+  void fix_thread_shares(std::vector<double> shares) { split_.fix_shares(std::move(shares)); }
+  // The blocks of grains of the last step's loops (tests, diagnostics).
+  const GrainSplit& grain_split() const { return split_; }
+
  private:
   // Below this many grains or contacts a loop runs on one thread: waking a thread team costs
   // more than the work. The result is the same bits either way.
@@ -58,7 +66,7 @@ class DemSolver final : public Solver {
   GrainPass grain_pass(bool all, double h_kick);
   template <class Normal, bool Roll>
   void pair_forces();
-  void split_grains(int blocks);
+  void update_split();
   template <class Normal>
   void wet_pair_forces();
   struct PairPass;
@@ -79,9 +87,9 @@ class DemSolver final : public Solver {
   // like n x F; apart entries hold zeros), and per grain 1 / (I + m R^2).
   std::vector<typename Space<D>::Rot> pair_roll_, wall_roll_;
   std::vector<double> roll_inv_ic_;
-  // The dry pass's blocks of grains, one per thread, and the grains it leaves to the gather.
-  // Both follow the near list: split_grains() makes them again after each remake.
-  std::vector<std::uint32_t> grain_block_;
+  // The blocks of grains of the step's loops, one per thread, and the grains the dry pass
+  // leaves to the gather: update_split() makes them again after each near-list remake.
+  GrainSplit split_;
   std::vector<std::uint8_t> gathered_;
   std::uint64_t split_remake_ = ~std::uint64_t{0};
   // Capillary bridges: per pair, a bridge event of this step (kBridgeFormed / kBridgeBroken),

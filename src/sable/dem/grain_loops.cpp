@@ -151,20 +151,29 @@ typename DemSolver<D>::Moved DemSolver<D>::kick_drift(double h_kick, double h_dr
   const typename S::Vec* const inner =
       near_ref.size() == w_.particles.size() ? near_ref.data() : nullptr;
   const bool turning = w_.track_orientation;
+  update_split();
+  const int blocks = split_.blocks();
+  const std::uint32_t* const bound = split_.bounds();
   double outer2 = 0.0, near2 = 0.0;  // maxima: exact whatever the order
   // (clang-format breaks the reduction clause apart)
   // clang-format off
-#pragma omp parallel for schedule(static) firstprivate(pass) \
-    reduction(max : outer2, near2) if (n >= kMinParallelItems)
+#pragma omp parallel num_threads(blocks) firstprivate(pass) reduction(max : outer2, near2) \
+    if (n >= kMinParallelItems && blocks > 1)
   // clang-format on
-  for (std::ptrdiff_t kk = 0; kk < n; ++kk) {
-    const auto k = static_cast<std::size_t>(kk);
-    if (pass.kick(k, h_kick)) {
-      pass.x[k] += h_drift * pass.v[k];
-      if (turning) pass.q[k] = S::rotate(pass.q[k], pass.w[k], h_drift);
+  {
+    const int team = omp_get_num_threads();
+    for (int b = omp_get_thread_num(); b < blocks; b += team) {
+      const double start = omp_get_wtime();
+      for (std::uint32_t k = bound[b]; k < bound[b + 1]; ++k) {
+        if (pass.kick(k, h_kick)) {
+          pass.x[k] += h_drift * pass.v[k];
+          if (turning) pass.q[k] = S::rotate(pass.q[k], pass.w[k], h_drift);
+        }
+        if (outer) outer2 = std::max(outer2, (pass.x[k] - outer[k]).squaredNorm());
+        if (inner) near2 = std::max(near2, (pass.x[k] - inner[k]).squaredNorm());
+      }
+      if (team == blocks) split_.add_busy(b, omp_get_wtime() - start);
     }
-    if (outer) outer2 = std::max(outer2, (pass.x[k] - outer[k]).squaredNorm());
-    if (inner) near2 = std::max(near2, (pass.x[k] - inner[k]).squaredNorm());
   }
   return {outer ? outer2 : -1.0, near2};
 }
@@ -178,18 +187,27 @@ template <class Normal>
 bool DemSolver<D>::finish(bool all, double h_kick) {
   GrainPass pass = grain_pass(all, h_kick);
   const auto n = static_cast<std::ptrdiff_t>(w_.particles.size());
+  update_split();
+  const int blocks = split_.blocks();
+  const std::uint32_t* const bound = split_.bounds();
   double max_ratio = 0.0;
   std::size_t touching = 0;
   int bad = 0;
-#pragma omp parallel for schedule(static) firstprivate(pass) reduction(max : max_ratio) \
-    reduction(+ : touching) reduction(| : bad) if (n >= kMinParallelItems)
-  for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    for (std::uint32_t k = pass.wall_begin[i]; k < pass.wall_begin[i + 1]; ++k)
-      wall_contact<Normal>(k, max_ratio, touching);
-    pass.sum(i);
-    if (h_kick > 0.0) pass.kick(i, h_kick);
-    bad |= pass.sound(i) ? 0 : 1;
+#pragma omp parallel num_threads(blocks) firstprivate(pass) reduction(max : max_ratio) \
+    reduction(+ : touching) reduction(| : bad) if (n >= kMinParallelItems && blocks > 1)
+  {
+    const int team = omp_get_num_threads();
+    for (int b = omp_get_thread_num(); b < blocks; b += team) {
+      const double start = omp_get_wtime();
+      for (std::uint32_t i = bound[b]; i < bound[b + 1]; ++i) {
+        for (std::uint32_t k = pass.wall_begin[i]; k < pass.wall_begin[i + 1]; ++k)
+          wall_contact<Normal>(k, max_ratio, touching);
+        pass.sum(i);
+        if (h_kick > 0.0) pass.kick(i, h_kick);
+        bad |= pass.sound(i) ? 0 : 1;
+      }
+      if (team == blocks) split_.add_busy(b, omp_get_wtime() - start);
+    }
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
   diag_.touching += touching;

@@ -1,0 +1,78 @@
+// How the DEM step's parallel loops share the grains among the threads: one contiguous block
+// of grains per thread, the same blocks for the pair pass and the two grain loops (so that a
+// thread finds its grains' data in its own cache), sized by how fast each thread has been.
+//
+// Why measured: the threads of a run do not all run at one speed. On the project's 2-vCPU VM
+// a thread pinned to one vCPU took up to 30 % longer over the same blocks than one pinned to
+// the other, and which vCPU is the slower changes over minutes (docs/BENCHMARKS.md, fifteenth
+// session); desktop CPUs with fast and slow cores differ by design, and any other job on the
+// machine slows one thread. With an even cut every step waits for the slowest thread. Each
+// thread's blocks are timed (a clock read at each end of its share of a loop), each step
+// yields the shares that would have equalised those times, and every kEvery steps the shares
+// move halfway to the median of those estimates (one step hit by a hiccup of the host does
+// not move the cut).
+//
+// Why it cannot change the results: no grain's or contact's arithmetic depends on the block
+// it falls in (the pair pass adds each grain's terms in list order whatever the cut, see
+// dem_solver.cpp), so the cut, and the timing behind it, changes the speed only: the same bits
+// for any cut, which tests check with deliberately lopsided shares.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace sable {
+
+class GrainSplit {
+ public:
+  static constexpr std::size_t kEvery = 32;  // steps per look at the threads' times
+
+  // Block b holds grains [bounds()[b], bounds()[b + 1]).
+  int blocks() const { return bound_.empty() ? 0 : static_cast<int>(bound_.size()) - 1; }
+  const std::uint32_t* bounds() const { return bound_.data(); }
+  // Made for n grains in `blocks` blocks, and not asking to be made again.
+  bool fits(std::size_t n, int blocks) const {
+    return !recut_ && this->blocks() == blocks && bound_.back() == n;
+  }
+
+  // Cuts n grains into `blocks` blocks, block b with about share(b) of the work. The work
+  // before grain g is begin[g] + g (its list entries, and one per grain) when begin holds
+  // n + 1 offsets, else g (no list for these grains yet).
+  void cut(std::size_t n, int blocks, std::span<const std::uint32_t> begin);
+
+  // Seconds that block b's work took in one loop, added by the thread that did it.
+  void add_busy(int b, double seconds) { busy_[static_cast<std::size_t>(b)].seconds += seconds; }
+  // At the end of each step: the step's times become an estimate of the shares; every kEvery
+  // steps the shares move towards the estimates, and fits() turns false once a cut would move
+  // by more than kMinShift of the work since the last cut.
+  void end_step();
+
+  // Fixed shares instead of measured ones (one per block, any positive numbers: they are
+  // normalised). For tests: any cut gives the same bits.
+  void fix_shares(std::vector<double> shares);
+  double share(int b) const { return share_[static_cast<std::size_t>(b)]; }
+
+ private:
+  static constexpr double kMinShift = 0.005;  // a smaller move is not worth a new cut
+  static constexpr double kGain = 0.5;        // how far the shares move towards the estimate
+  void reset(int blocks);
+  void move_shares();
+
+  std::vector<std::uint32_t> bound_;
+  std::vector<double> share_;      // per block, summing to 1
+  std::vector<double> next_;       // scratch of move_shares()
+  std::vector<double> cut_share_;  // the shares of the last cut
+  std::vector<double> work_;       // per block: its work at the last cut
+  std::vector<double> estimate_;   // kEvery rows of `blocks` estimated shares
+  struct alignas(64) Busy {        // one cache line per block: its thread alone writes it
+    double seconds = 0.0;
+  };
+  std::vector<Busy> busy_;
+  std::size_t steps_ = 0;  // rows of estimate_ filled
+  bool fixed_ = false, recut_ = false;
+};
+
+}  // namespace sable

@@ -1,0 +1,142 @@
+// GrainSplit (dem/grain_split.hpp): the cut of the grains into one block per thread, and the
+// shares that follow the threads' measured speeds. The times here are made up: block b's
+// seconds in a step are its work over a chosen speed, so the shares that equalise the
+// threads' times are known exactly (proportional to the speeds).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+#include "sable/dem/grain_split.hpp"
+
+namespace {
+
+using sable::GrainSplit;
+
+// Offsets of a list where grain g has (g % 7) entries: uneven work per grain.
+std::vector<std::uint32_t> uneven_offsets(std::size_t n) {
+  std::vector<std::uint32_t> begin(n + 1, 0);
+  for (std::size_t g = 0; g < n; ++g) begin[g + 1] = begin[g] + static_cast<std::uint32_t>(g % 7);
+  return begin;
+}
+
+double work_before(const std::vector<std::uint32_t>& begin, std::size_t g) {
+  return double(begin[g]) + double(g);
+}
+
+// One step's timed loops: block b's seconds = its work / speeds[b] (any unit).
+void time_step(GrainSplit& split, const std::vector<std::uint32_t>& begin,
+               const std::vector<double>& speeds) {
+  for (int b = 0; b < split.blocks(); ++b) {
+    const double work =
+        work_before(begin, split.bounds()[b + 1]) - work_before(begin, split.bounds()[b]);
+    split.add_busy(b, work / speeds[static_cast<std::size_t>(b)]);
+  }
+  split.end_step();
+}
+
+// Runs `steps` steps, cutting again whenever the split asks (as DemSolver::update_split does).
+void run(GrainSplit& split, const std::vector<std::uint32_t>& begin, int blocks,
+         const std::vector<double>& speeds, int steps) {
+  const std::size_t n = begin.size() - 1;
+  for (int s = 0; s < steps; ++s) {
+    if (!split.fits(n, blocks)) split.cut(n, blocks, begin);
+    time_step(split, begin, speeds);
+  }
+}
+
+// Even shares: each cut is the last grain whose work before it is at most b/blocks of the
+// total (exact: the binary search's definition), the bounds cover every grain once.
+TEST(GrainSplit, CutsAtTheShareOfTheWork) {
+  const std::size_t n = 10007;
+  const auto begin = uneven_offsets(n);
+  GrainSplit split;
+  for (int blocks : {1, 2, 3, 8}) {
+    split.cut(n, blocks, begin);
+    ASSERT_EQ(split.blocks(), blocks);
+    EXPECT_EQ(split.bounds()[0], 0u);
+    EXPECT_EQ(split.bounds()[blocks], n);
+    const double total = work_before(begin, n);
+    for (int b = 1; b < blocks; ++b) {
+      const std::size_t g = split.bounds()[b];
+      const double target = total * b / blocks;
+      EXPECT_LE(work_before(begin, g), target + 1e-9) << blocks << " blocks, cut " << b;
+      EXPECT_GT(work_before(begin, g + 1), target - 1e-9) << blocks << " blocks, cut " << b;
+    }
+    EXPECT_TRUE(split.fits(n, blocks));
+    EXPECT_FALSE(split.fits(n + 1, blocks));
+  }
+}
+
+// Grains the list does not hold yet (offsets for fewer grains): cut by count, evenly.
+TEST(GrainSplit, CutsByCountWithoutAList) {
+  GrainSplit split;
+  const std::vector<std::uint32_t> stale{0, 3, 5};  // two grains' offsets, for 1000 grains
+  split.cut(1000, 4, stale);
+  for (int b = 0; b <= 4; ++b) EXPECT_EQ(split.bounds()[b], 250u * static_cast<unsigned>(b));
+}
+
+// Two threads, one at 0.6 of the other's speed: the shares go to 1/1.6 and 0.6/1.6, where
+// both threads' times are equal. The gap halves every kEvery steps (gain 0.5): from 0.125
+// it is under 1e-4 after 12 looks (tolerance 1e-3). The cut moves only once the shares have
+// moved by more than 0.005 of the work since the last cut, and lies within one grain's work
+// (at most 7 + 1 of ~40,000) of its shares: tolerance 0.005 + 1e-3 on the cut's share.
+TEST(GrainSplit, SharesFollowTheThreadsSpeeds) {
+  const std::size_t n = 10000;
+  const auto begin = uneven_offsets(n);
+  GrainSplit split;
+  run(split, begin, 2, {1.0, 0.6}, 12 * static_cast<int>(GrainSplit::kEvery));
+  EXPECT_NEAR(split.share(0), 1.0 / 1.6, 1e-3);
+  EXPECT_NEAR(split.share(1), 0.6 / 1.6, 1e-3);
+  if (!split.fits(n, 2)) split.cut(n, 2, begin);
+  const double total = work_before(begin, n);
+  EXPECT_NEAR(work_before(begin, split.bounds()[1]) / total, 1.0 / 1.6, 6e-3);
+  // Four threads, speeds 1 : 2 : 3 : 4: shares 0.1, 0.2, 0.3, 0.4.
+  GrainSplit four;
+  run(four, begin, 4, {1.0, 2.0, 3.0, 4.0}, 16 * static_cast<int>(GrainSplit::kEvery));
+  for (int b = 0; b < 4; ++b) EXPECT_NEAR(four.share(b), 0.1 * (b + 1), 1e-3) << "block " << b;
+}
+
+// Equal speeds, but in one step of every kEvery a block takes 100 times longer (a host that
+// takes the vCPU away for a while): the median ignores it, the shares stay even to the last
+// bit and the cut is not made again.
+TEST(GrainSplit, OneSlowStepDoesNotMoveTheCut) {
+  const std::size_t n = 5000;
+  const auto begin = uneven_offsets(n);
+  GrainSplit split;
+  split.cut(n, 2, begin);
+  for (int look = 0; look < 4; ++look)
+    for (std::size_t s = 0; s < GrainSplit::kEvery; ++s)
+      time_step(split, begin, s == 5 ? std::vector<double>{0.01, 1.0} : std::vector{1.0, 1.0});
+  EXPECT_EQ(split.share(0), 0.5);
+  EXPECT_EQ(split.share(1), 0.5);
+  EXPECT_TRUE(split.fits(n, 2));
+}
+
+// A thread that barely runs keeps a fifth of the even share (floor a quarter before the
+// shares are normalised), so that it is still measured; the other gets the rest.
+TEST(GrainSplit, AStalledThreadKeepsSomeWork) {
+  const std::size_t n = 5000;
+  const auto begin = uneven_offsets(n);
+  GrainSplit split;
+  run(split, begin, 2, {1.0, 1e-4}, 20 * static_cast<int>(GrainSplit::kEvery));
+  EXPECT_GE(split.share(1), 0.2 / 2);
+  EXPECT_LT(split.share(1), 0.25 / 2 + 1e-12);
+  EXPECT_NEAR(split.share(0) + split.share(1), 1.0, 1e-12);
+}
+
+// Fixed shares (normalised) set the cut and ignore the times.
+TEST(GrainSplit, FixedSharesIgnoreTheTimes) {
+  const std::size_t n = 8000;
+  const auto begin = uneven_offsets(n);
+  GrainSplit split;
+  split.fix_shares({1.0, 3.0});
+  EXPECT_FALSE(split.fits(n, 2));
+  run(split, begin, 2, {1.0, 0.1}, 4 * static_cast<int>(GrainSplit::kEvery));
+  EXPECT_EQ(split.share(0), 0.25);
+  const double total = work_before(begin, n);
+  EXPECT_NEAR(work_before(begin, split.bounds()[1]) / total, 0.25, 1e-3);
+}
+
+}  // namespace
