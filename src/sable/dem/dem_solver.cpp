@@ -54,7 +54,8 @@ void DemSolver<D>::step() {
       w_.neighbors.build(w_.particles, w_.walls);
   }
   const bool unsound = forces(&moved, 0.5 * h);  // and the closing half kick
-  split_.end_step();                             // the threads' times: the next cut
+  for (GrainSplit* split : {&drift_split_, &pair_split_, &finish_split_})
+    split->end_step();  // the threads' times: the next cuts
   w_.time += h;
   ++w_.step;
   if (unsound) check_grain_states(w_);  // names the first unsound grain and throws
@@ -410,11 +411,11 @@ void DemSolver<D>::pair_forces() {
   // few contacts is still worth the threads, and clearing them all on one thread would leave
   // the other threads' grains in its cache for the next kick.
   update_split();
-  const int blocks = split_.blocks();
+  const int blocks = pair_split_.blocks();
   PairPass pass = pair_pass();
   const std::uint32_t* const near = near_.index.data();
   const std::uint32_t* const first_begin = near_.first_begin.data();
-  const std::uint32_t* const block = split_.bounds();
+  const std::uint32_t* const block = pair_split_.bounds();
   double max_ratio = 0.0;
   std::size_t touching = 0;
 #pragma omp parallel num_threads(blocks) firstprivate(pass) reduction(max : max_ratio) \
@@ -439,32 +440,31 @@ void DemSolver<D>::pair_forces() {
         pass.template entries<Normal, Sum::kScatterChecked, Roll>(near, m0, m1, max_ratio,
                                                                   touching);
       }
-      if (team == blocks) split_.add_busy(t, omp_get_wtime() - start);
+      if (team == blocks) pair_split_.add_busy(t, omp_get_wtime() - start);
     }
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
   diag_.touching += touching;
 }
 
-// The blocks of grains of the step's loops (dem/grain_split.hpp), cut again after a near-list
-// remake, when the grain or the thread count changed, or when the threads' measured speeds
-// ask for it. Each block gets its share of the work: its near-list entries, plus one per
-// grain (own() clears each grain's sums, and the grain loops take the same blocks). Cut by
-// entries alone, a bed whose contacts sit in a few grains (a fall, where only the landed
-// layers touch) gave one thread nearly every grain: two threads took longer than one
-// (docs/BENCHMARKS.md, thirteenth session). Then the flags: a grain is gathered when it is
-// the second member of an entry whose first member is in an earlier block (its first such
-// entry has the smallest first member): that block's thread would add to it, in a race and
-// out of order. Grains the near list does not hold yet (just inserted; the list is remade
-// before the pair pass) are cut by count, and the cut is made again once it holds them.
+// The pair pass's blocks of grains (dem/grain_split.hpp), cut again after a near-list remake,
+// when the grain or the thread count changed, or when the threads' measured speeds ask for
+// it. Each block gets its share of the work: its near-list entries, plus one per grain
+// (own() clears each grain's sums). Cut by entries alone, a bed whose contacts sit in a few
+// grains (a fall, where only the landed layers touch) gave one thread nearly every grain: two
+// threads took longer than one (docs/BENCHMARKS.md, thirteenth session). Then the flags: a
+// grain is gathered when it is the second member of an entry whose first member is in an
+// earlier block (its first such entry has the smallest first member): that block's thread
+// would add to it, in a race and out of order. (Grains the near list does not hold are cut
+// by count, and the cut is made again once it holds them; the pass always finds them held.)
 template <int D>
 void DemSolver<D>::update_split() {
   const std::size_t n = w_.particles.size();
   const std::size_t items = near_.index.size() + n;
   const int blocks = items >= kMinParallelItems ? omp_get_max_threads() : 1;
-  if (split_remake_ == near_.remakes && split_.fits(n, blocks)) return;
+  if (split_remake_ == near_.remakes && pair_split_.fits(n, blocks)) return;
   const auto& begin = near_.first_begin;  // n + 1 offsets when the list holds every grain
-  split_.cut(n, blocks, begin);
+  pair_split_.cut(n, blocks, begin);
   gathered_.assign(n, 0);
   if (begin.size() != n + 1) {
     split_remake_ = ~std::uint64_t{0};
@@ -472,11 +472,24 @@ void DemSolver<D>::update_split() {
   }
   const auto& sb = near_.second_begin;
   const auto& first = w_.neighbors.pairs.i;
-  const std::uint32_t* const bound = split_.bounds();
+  const std::uint32_t* const bound = pair_split_.bounds();
   for (int t = 1; t < blocks; ++t)
     for (std::uint32_t g = bound[t]; g < bound[t + 1]; ++g)
       gathered_[g] = sb[g] < sb[g + 1] && first[near_.second_pairs[sb[g]]] < bound[t];
   split_remake_ = near_.remakes;
+}
+
+// A grain loop's blocks: each loop has its own, cut by grain count and timed alone, so that
+// each loop's threads finish together (the opening loop's work is even per grain, the closing
+// loop's is not: wall contacts, gathered grains; one cut balancing the sum of the loops would
+// leave each loop's threads waiting for one another in turn).
+template <int D>
+GrainSplit& DemSolver<D>::loop_split(GrainSplit& split) {
+  const std::size_t n = w_.particles.size();
+  const bool team = static_cast<std::ptrdiff_t>(n) >= kMinParallelItems;
+  const int blocks = team ? omp_get_max_threads() : 1;
+  if (!split.fits(n, blocks)) split.cut(n, blocks, {});
+  return split;
 }
 
 // The grain-pair pass with capillary bridges. As pair_forces, plus: a bridged pair that has

@@ -1,6 +1,8 @@
 // Soft-contact DEM: velocity Verlet over grains, contact forces from the World's contact law.
 #pragma once
 
+#include <array>
+
 #include "sable/dem/grain_split.hpp"
 #include "sable/dem/near_list.hpp"
 #include "sable/world/solver.hpp"
@@ -41,9 +43,15 @@ class DemSolver final : public Solver {
   // Fixed shares of the work per thread (one per thread, normalised) instead of shares that
   // follow the threads' measured speeds (dem/grain_split.hpp). For tests: the results are the
   // same bits for any shares.
-  void fix_thread_shares(std::vector<double> shares) { split_.fix_shares(std::move(shares)); }
-  // The blocks of grains of the last step's loops (tests, diagnostics).
-  const GrainSplit& grain_split() const { return split_; }
+  void fix_thread_shares(const std::vector<double>& shares) {
+    for (GrainSplit* split : {&drift_split_, &pair_split_, &finish_split_})
+      split->fix_shares(shares);
+  }
+  // The blocks of grains of the last step's loops, in step order: the opening loop's, the pair
+  // pass's, the closing loop's (tests, diagnostics).
+  std::array<const GrainSplit*, 3> grain_splits() const {
+    return {&drift_split_, &pair_split_, &finish_split_};
+  }
 
  private:
   // Below this many grains or contacts a loop runs on one thread: waking a thread team costs
@@ -67,6 +75,7 @@ class DemSolver final : public Solver {
   template <class Normal, bool Roll>
   void pair_forces();
   void update_split();
+  GrainSplit& loop_split(GrainSplit& split);
   template <class Normal>
   void wet_pair_forces();
   struct PairPass;
@@ -87,9 +96,10 @@ class DemSolver final : public Solver {
   // like n x F; apart entries hold zeros), and per grain 1 / (I + m R^2).
   std::vector<typename Space<D>::Rot> pair_roll_, wall_roll_;
   std::vector<double> roll_inv_ic_;
-  // The blocks of grains of the step's loops, one per thread, and the grains the dry pass
-  // leaves to the gather: update_split() makes them again after each near-list remake.
-  GrainSplit split_;
+  // The blocks of grains of the step's loops, one per thread: each parallel loop has its own,
+  // so that its threads finish together (dem/grain_split.hpp). The pair pass's, and the grains
+  // it leaves to the gather, are made again after each near-list remake (update_split()).
+  GrainSplit drift_split_, pair_split_, finish_split_;
   std::vector<std::uint8_t> gathered_;
   std::uint64_t split_remake_ = ~std::uint64_t{0};
   // Capillary bridges: per pair, a bridge event of this step (kBridgeFormed / kBridgeBroken),

@@ -143,7 +143,6 @@ template <int D>
 typename DemSolver<D>::Moved DemSolver<D>::kick_drift(double h_kick, double h_drift) {
   using S = Space<D>;
   GrainPass pass = grain_pass(false, h_kick);
-  const auto n = static_cast<std::ptrdiff_t>(w_.particles.size());
   const auto& outer_ref = w_.neighbors.x_ref;
   const auto& near_ref = near_.reference();
   const typename S::Vec* const outer =
@@ -151,14 +150,14 @@ typename DemSolver<D>::Moved DemSolver<D>::kick_drift(double h_kick, double h_dr
   const typename S::Vec* const inner =
       near_ref.size() == w_.particles.size() ? near_ref.data() : nullptr;
   const bool turning = w_.track_orientation;
-  update_split();
-  const int blocks = split_.blocks();
-  const std::uint32_t* const bound = split_.bounds();
+  GrainSplit& split = loop_split(drift_split_);
+  const int blocks = split.blocks();
+  const std::uint32_t* const bound = split.bounds();
   double outer2 = 0.0, near2 = 0.0;  // maxima: exact whatever the order
   // (clang-format breaks the reduction clause apart)
   // clang-format off
 #pragma omp parallel num_threads(blocks) firstprivate(pass) reduction(max : outer2, near2) \
-    if (n >= kMinParallelItems && blocks > 1)
+    if (blocks > 1)
   // clang-format on
   {
     const int team = omp_get_num_threads();
@@ -172,7 +171,7 @@ typename DemSolver<D>::Moved DemSolver<D>::kick_drift(double h_kick, double h_dr
         if (outer) outer2 = std::max(outer2, (pass.x[k] - outer[k]).squaredNorm());
         if (inner) near2 = std::max(near2, (pass.x[k] - inner[k]).squaredNorm());
       }
-      if (team == blocks) split_.add_busy(b, omp_get_wtime() - start);
+      if (team == blocks) split.add_busy(b, omp_get_wtime() - start);
     }
   }
   return {outer ? outer2 : -1.0, near2};
@@ -186,15 +185,14 @@ template <int D>
 template <class Normal>
 bool DemSolver<D>::finish(bool all, double h_kick) {
   GrainPass pass = grain_pass(all, h_kick);
-  const auto n = static_cast<std::ptrdiff_t>(w_.particles.size());
-  update_split();
-  const int blocks = split_.blocks();
-  const std::uint32_t* const bound = split_.bounds();
+  GrainSplit& split = loop_split(finish_split_);
+  const int blocks = split.blocks();
+  const std::uint32_t* const bound = split.bounds();
   double max_ratio = 0.0;
   std::size_t touching = 0;
   int bad = 0;
 #pragma omp parallel num_threads(blocks) firstprivate(pass) reduction(max : max_ratio) \
-    reduction(+ : touching) reduction(| : bad) if (n >= kMinParallelItems && blocks > 1)
+    reduction(+ : touching) reduction(| : bad) if (blocks > 1)
   {
     const int team = omp_get_num_threads();
     for (int b = omp_get_thread_num(); b < blocks; b += team) {
@@ -206,7 +204,7 @@ bool DemSolver<D>::finish(bool all, double h_kick) {
         if (h_kick > 0.0) pass.kick(i, h_kick);
         bad |= pass.sound(i) ? 0 : 1;
       }
-      if (team == blocks) split_.add_busy(b, omp_get_wtime() - start);
+      if (team == blocks) split.add_busy(b, omp_get_wtime() - start);
     }
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);

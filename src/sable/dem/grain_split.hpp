@@ -1,6 +1,9 @@
-// How the DEM step's parallel loops share the grains among the threads: one contiguous block
-// of grains per thread, the same blocks for the pair pass and the two grain loops (so that a
-// thread finds its grains' data in its own cache), sized by how fast each thread has been.
+// How one of the DEM step's parallel loops shares the grains among the threads: one contiguous
+// block of grains per thread, sized by how fast each thread has been in that loop. Each loop
+// (the opening grain loop, the pair pass, the closing grain loop) has its own split: each
+// ends with the threads meeting, and their work differs in kind (the closing loop's wall
+// contacts and gathered grains sit in some blocks only), so one cut balancing their sum
+// would leave the threads waiting for one another in turn.
 //
 // Why measured: the threads of a run do not all run at one speed. On the project's 2-vCPU VM
 // a thread pinned to one vCPU took up to 30 % longer over the same blocks than one pinned to
