@@ -163,7 +163,8 @@ typename DemSolver<D>::Moved DemSolver<D>::kick_drift(double h_kick, double h_dr
     const int team = omp_get_num_threads();
     for (int b = omp_get_thread_num(); b < blocks; b += team) {
       const double start = omp_get_wtime();
-      for (std::uint32_t k = bound[b]; k < bound[b + 1]; ++k) {
+      const std::size_t g0 = bound[b], g1 = bound[b + 1];
+      for (std::size_t k = g0; k < g1; ++k) {
         if (pass.kick(k, h_kick)) {
           pass.x[k] += h_drift * pass.v[k];
           if (turning) pass.q[k] = S::rotate(pass.q[k], pass.w[k], h_drift);
@@ -195,13 +196,16 @@ bool DemSolver<D>::finish(bool all, double h_kick) {
     reduction(+ : touching) reduction(| : bad) if (blocks > 1)
   {
     const int team = omp_get_num_threads();
+    const double h = h_kick;  // in a register: the loop calls wall_contact()
+    const bool kick = h > 0.0;
     for (int b = omp_get_thread_num(); b < blocks; b += team) {
       const double start = omp_get_wtime();
-      for (std::uint32_t i = bound[b]; i < bound[b + 1]; ++i) {
+      const std::size_t g0 = bound[b], g1 = bound[b + 1];
+      for (std::size_t i = g0; i < g1; ++i) {
         for (std::uint32_t k = pass.wall_begin[i]; k < pass.wall_begin[i + 1]; ++k)
           wall_contact<Normal>(k, max_ratio, touching);
         pass.sum(i);
-        if (h_kick > 0.0) pass.kick(i, h_kick);
+        if (kick) pass.kick(i, h);
         bad |= pass.sound(i) ? 0 : 1;
       }
       if (team == blocks) split.add_busy(b, omp_get_wtime() - start);
