@@ -402,8 +402,8 @@ typename DemSolver<D>::PairPass DemSolver<D>::pair_pass() {
 // any number of threads. Only the grains another block's entries reach (flagged `gathered`
 // by update_split(); none on one thread, a few % on two) are left to the gather. Gathering
 // every grain's sum afterwards cost 15 % of the step (perf, docs/BENCHMARKS.md). The blocks
-// and flags change only when the near list is remade, so the threads never wait for each
-// other inside the pass.
+// and flags change only between passes (update_split(): after a near-list remake, or when
+// the threads' speeds move the cut), so the threads never wait for each other inside the pass.
 template <int D>
 template <class Normal, bool Roll>
 void DemSolver<D>::pair_forces() {
