@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
+#include <vector>
 
 #include "sable/contact/contact_lanes.hpp"
 #include "sable/contact/contact_model.hpp"
@@ -11,17 +13,20 @@
 
 namespace {
 
-// A dense 3D lattice of touching spheres, slightly compressed, in a box of walls.
-sable::World<3> dense_bed(int n) {
+// A dense 3D lattice of touching spheres, slightly compressed, in a box of walls; with
+// `shuffled`, the grains' slots in a random order (as after a long flow), else row by row.
+sable::World<3> dense_bed(int n, bool shuffled = false) {
   sable::World<3> w;
   sable::Material m{"glass", 2500.0, 5e6, 0.45, 0.6, 0.5};
   const auto mi = w.materials.add(m);
   w.materials.finalize();
   const double r = 0.75e-3, s = 1.98 * r;
+  std::vector<Eigen::Vector3d> x;
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-        w.particles.add({(i + 0.5) * s, (j + 0.5) * s, (k + 0.5) * s}, r, m.density, mi, 1.0);
+      for (int i = 0; i < n; ++i) x.emplace_back((i + 0.5) * s, (j + 0.5) * s, (k + 0.5) * s);
+  if (shuffled) std::shuffle(x.begin(), x.end(), std::mt19937_64(12345));
+  for (const auto& c : x) w.particles.add(c, r, m.density, mi, 1.0);
   for (int d = 0; d < 3; ++d)
     for (int side = 0; side < 2; ++side) {
       sable::Wall<3> wall;
@@ -121,5 +126,25 @@ void BM_DemStep(benchmark::State& state) {
       benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_DemStep)->Arg(20)->Arg(27);
+
+// The grains' slot order (world/reorder.hpp): a DEM step on the dense bed of n^3 grains with
+// its slots row by row (order 0), shuffled (1), or shuffled then sorted by neighbour cell at
+// the first neighbour build (2). A shuffled bed is what a long flow leaves without reordering:
+// every partner's data a cache miss once the bed outgrows the caches.
+void BM_DemStepOrder(benchmark::State& state) {
+  const int order = static_cast<int>(state.range(1));
+  auto w = dense_bed(static_cast<int>(state.range(0)), order != 0);
+  w.reorder_every = order == 2 ? 1000000 : 0;  // build 0 only: the steps themselves never reorder
+  sable::DemSolver<3> solver(w);
+  solver.initialize();
+  for (auto _ : state) solver.step();
+  state.counters["grain_steps_per_s"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * static_cast<double>(w.particles.size()),
+      benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_DemStepOrder)
+    ->ArgsProduct({{27, 50}, {0, 1, 2}})
+    ->ArgNames({"n", "order"})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace

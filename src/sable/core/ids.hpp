@@ -1,6 +1,6 @@
 // Stable particle ids (index + generation), as in Jolt and Box2D.
 //
-// Storage slots move (grains are removed, and later reordered along a space-filling curve for
+// Storage slots move (grains are removed, and reordered along a space-filling curve for
 // locality); a ParticleId does not. The registry maps an id to its current slot, and the
 // generation makes a stale id (of a removed grain) detectable instead of silently aliasing.
 #pragma once

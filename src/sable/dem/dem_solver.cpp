@@ -31,8 +31,18 @@ template <int D>
 void DemSolver<D>::initialize() {
   // The lists carry rolling springs exactly when the law has rolling resistance.
   w_.neighbors.rolling = w_.model.rolling != RollingModel::kNone;
-  w_.neighbors.build(w_.particles, w_.walls);
+  build_lists();
   compute_forces();
+}
+
+// A neighbour-list build, preceded at every reorder_every-th build (counting from the first,
+// by the saved build count, so that a resumed run reorders where the unbroken one did) by
+// moving the grains into cell order (world/reorder.hpp). The order follows from the
+// positions alone: the same for any number of threads.
+template <int D>
+void DemSolver<D>::build_lists() {
+  if (w_.reorder_every > 0 && w_.neighbors.builds % w_.reorder_every == 0) reorder_.apply(w_);
+  w_.neighbors.build(w_.particles, w_.walls);
 }
 
 // One velocity-Verlet step. Forces at t are known on entry (from the previous step or
@@ -50,8 +60,7 @@ void DemSolver<D>::step() {
   }
   {
     auto scope = timers_.time(Phase::kNeighbors);
-    if (w_.neighbors.needs_rebuild_after(moved.outer2, w_.walls))
-      w_.neighbors.build(w_.particles, w_.walls);
+    if (w_.neighbors.needs_rebuild_after(moved.outer2, w_.walls)) build_lists();
   }
   const bool unsound = forces(&moved, 0.5 * h);  // and the closing half kick
   for (GrainSplit* split : {&drift_split_, &pair_split_, &finish_split_})

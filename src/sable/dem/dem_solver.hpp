@@ -5,6 +5,7 @@
 
 #include "sable/dem/grain_split.hpp"
 #include "sable/dem/near_list.hpp"
+#include "sable/world/reorder.hpp"
 #include "sable/world/solver.hpp"
 #include "sable/world/world.hpp"
 
@@ -81,6 +82,7 @@ class DemSolver final : public Solver {
   struct PairPass;
   PairPass pair_pass();
   void prepare_rolling(bool wet);
+  void build_lists();
   void settle_liquid();
 
   World<D>& w_;
@@ -107,7 +109,8 @@ class DemSolver final : public Solver {
   std::vector<std::uint8_t> pair_event_;
   std::size_t events_ = 0;
   std::uint64_t scratch_build_ = ~std::uint64_t{0};
-  NearList<D> near_;  // the pair entries the force pass visits (dem/near_list.hpp)
+  NearList<D> near_;         // the pair entries the force pass visits (dem/near_list.hpp)
+  GrainReorder<D> reorder_;  // the grains in cell order at some builds (world/reorder.hpp)
 };
 
 }  // namespace sable

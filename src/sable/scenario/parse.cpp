@@ -38,7 +38,7 @@ SimulationConfig parse_simulation(const Table& root) {
   const auto t = root.table("simulation");
   if (!t) return sim;
   t->check_keys({"dimension", "solver", "seed", "dt", "dt_safety", "gravity", "thickness", "skin",
-                 "overlap_warning", "max_speed", "track_orientation"});
+                 "overlap_warning", "max_speed", "track_orientation", "reorder_every"});
   if (const toml::node* dim = t->find("dimension")) {
     const auto* value = dim->as_integer();
     if (value == nullptr || (value->get() != 2 && value->get() != 3)) {
@@ -57,6 +57,7 @@ SimulationConfig parse_simulation(const Table& root) {
   sim.overlap_warning = t->number_or("overlap_warning", kPositive, sim.overlap_warning);
   sim.max_speed = t->number_or("max_speed", kPositive, sim.max_speed);
   sim.track_orientation = t->boolean_or("track_orientation", sim.track_orientation);
+  sim.reorder_every = t->unsigned_or("reorder_every", sim.reorder_every);
   return sim;
 }
 

@@ -46,6 +46,10 @@ struct World {
   // does not read it may leave it as it is (LIGGGHTS' atom_style granular keeps none); the
   // drift costs ~8 % less (docs/BENCHMARKS.md).
   bool track_orientation = true;
+  // Every how many neighbour-list builds the DEM solver moves the grains into cell order
+  // first (world/reorder.hpp): their slots then follow space, and the pair pass finds each
+  // grain's partners in cache. 0: never.
+  std::uint64_t reorder_every = 0;
   double time = 0.0;
   std::uint64_t step = 0;
   Rng rng;

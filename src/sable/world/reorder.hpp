@@ -1,0 +1,58 @@
+// Spatial reordering of the grains' slots, at neighbour-list builds.
+//
+// The pair pass reads both grains of every contact. When slots follow space, a grain's
+// partners sit in nearby slots and their data are in cache; a bed that flows (a drum, a
+// hopper, a mixer) scrambles the slots, and every partner becomes a cache miss: a scrambled
+// dense bed of 125,000 grains steps at 37-46 % of the speed (docs/BENCHMARKS.md). Sorting the
+// slots by neighbour cell, row by row (as LAMMPS' `atom_modify sort` bins atoms), puts each
+// grain's partners in its own row of cells, the rows beside it and the layers of cells above
+// and below it: a few fixed distances in slots, which the hardware prefetches. A Morton
+// (Z-order) curve of the same cells was measured too: 25-32 % slower than rows on two threads
+// (docs/BENCHMARKS.md, sixteenth session).
+//
+// Reordering moves every per-grain array (ParticleStore, the liquid films) and renames the
+// slots in the neighbour lists so that each contact keeps its history: a pair whose members
+// swap order gets its history negated (it is stored for its first grain), and both lists are
+// sorted again. ParticleIds keep naming the same grains (IdRegistry::move). The new order
+// depends only on the positions, so results stay the same for any number of threads, and a
+// run resumed from a snapshot reorders at the same builds (the build count is saved).
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "sable/world/world.hpp"
+
+namespace sable {
+
+// Grain slots sorted by the cell of edge `cell` of the grid over [lo, hi] that holds them,
+// row by row, the axis of the most cells varying slowest (ties: the higher axis), the fewest
+// fastest; within a cell, by slot: order[new] = old. Grains outside the grid count in its
+// nearest cell.
+template <int D>
+void cell_order(const std::vector<typename Space<D>::Vec>& x, const typename Space<D>::Vec& lo,
+                const typename Space<D>::Vec& hi, double cell, std::vector<std::uint32_t>& order,
+                std::vector<std::pair<std::uint64_t, std::uint32_t>>& scratch);
+
+// Reorders a World's grains; owns its scratch so that a reorder inside the step does not
+// allocate once sizes have settled.
+template <int D>
+class GrainReorder {
+ public:
+  // Moves the grains into cell order (cell_order: the neighbour cells, edge 2 R_max + skin,
+  // over the list's domain) and renames their slots everywhere the World holds them. Returns false,
+  // changing nothing, when they already are in that order. Call it just before
+  // NeighborList::build().
+  bool apply(World<D>& w);
+  std::uint64_t reorders = 0;  // how many times apply() moved the grains
+
+ private:
+  void relabel_pairs(PairList<D>& pl);
+  void relabel_wall_pairs(WallPairList<D>& wl);
+  std::vector<std::uint32_t> order_, new_slot_, entry_order_, count_;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keys_;
+  std::vector<std::uint8_t> seen_;
+};
+
+}  // namespace sable
