@@ -114,6 +114,18 @@ bool GrainReorder<D>::apply(World<D>& w) {
   return true;
 }
 
+// entry_order_: a list's entries by grain (grain[k] < n), stably (a counting sort); count_[s]
+// the end of grain s's entries in it.
+template <int D>
+void GrainReorder<D>::sort_by_grain(const std::vector<std::uint32_t>& grain, std::size_t n) {
+  count_.assign(n + 1, 0);
+  for (std::uint32_t g : grain) ++count_[g + 1];
+  for (std::size_t s = 0; s < n; ++s) count_[s + 1] += count_[s];
+  entry_order_.resize(grain.size());
+  for (std::size_t k = 0; k < grain.size(); ++k)
+    entry_order_[count_[grain[k]]++] = static_cast<std::uint32_t>(k);
+}
+
 // Pair k becomes (new_slot[i], new_slot[j]), its members swapped where that puts them out of
 // order, with its history (displacement, last force, rolling spring: each stored for the
 // first grain) negated; then the list is sorted by (i, j) again: a counting sort by the first
@@ -133,13 +145,8 @@ void GrainReorder<D>::relabel_pairs(PairList<D>& pl) {
     pl.i[k] = a;
     pl.j[k] = b;
   }
-  count_.assign(n + 1, 0);
-  for (std::size_t k = 0; k < m; ++k) ++count_[pl.i[k] + 1];
-  for (std::size_t s = 0; s < n; ++s) count_[s + 1] += count_[s];
-  entry_order_.resize(m);
-  for (std::size_t k = 0; k < m; ++k)
-    entry_order_[count_[pl.i[k]]++] = static_cast<std::uint32_t>(k);
-  // count_[s] is now the end of grain s's row; its start is the previous grain's end.
+  sort_by_grain(pl.i, n);
+  // count_[s] is the end of grain s's row; its start is the previous grain's end.
   for (std::size_t s = 0, begin = 0; s < n; begin = count_[s++]) {
     for (std::size_t e = begin + 1; e < count_[s]; ++e) {
       const std::uint32_t k = entry_order_[e];
@@ -163,12 +170,7 @@ template <int D>
 void GrainReorder<D>::relabel_wall_pairs(WallPairList<D>& wl) {
   const std::size_t m = wl.size(), n = new_slot_.size();
   for (std::size_t k = 0; k < m; ++k) wl.i[k] = new_slot_[wl.i[k]];
-  count_.assign(n + 1, 0);
-  for (std::size_t k = 0; k < m; ++k) ++count_[wl.i[k] + 1];
-  for (std::size_t s = 0; s < n; ++s) count_[s + 1] += count_[s];
-  entry_order_.resize(m);
-  for (std::size_t k = 0; k < m; ++k)
-    entry_order_[count_[wl.i[k]]++] = static_cast<std::uint32_t>(k);
+  sort_by_grain(wl.i, n);
   apply_order(wl.i, entry_order_, seen_);
   apply_order(wl.wall, entry_order_, seen_);
   apply_order(wl.shear, entry_order_, seen_);

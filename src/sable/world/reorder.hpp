@@ -50,6 +50,7 @@ class GrainReorder {
  private:
   void relabel_pairs(PairList<D>& pl);
   void relabel_wall_pairs(WallPairList<D>& wl);
+  void sort_by_grain(const std::vector<std::uint32_t>& grain, std::size_t n);
   std::vector<std::uint32_t> order_, new_slot_, entry_order_, count_;
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keys_;
   std::vector<std::uint8_t> seen_;
