@@ -23,6 +23,8 @@ enum ParticleFlags : std::uint8_t {
 // shape table, which is why the kind is stored per grain and not per run.
 enum class ShapeKind : std::uint8_t { kRound = 0 };
 
+// A new per-grain field must also be moved by GrainReorder::apply() (world/reorder.cpp),
+// which permutes every field when the DEM solver sorts the slots.
 template <int D>
 struct ParticleStore {
   using S = Space<D>;
