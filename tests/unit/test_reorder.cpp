@@ -1,6 +1,7 @@
 // Reordering of the grains' slots by cell (world/reorder.hpp): the order itself, a reorder
 // that only moves data (every grain, contact history and id keeps its values exactly), the
-// same bits for any thread count, the same trajectory to round-off, and bit-identical resumes.
+// same bits for any thread count, the same trajectory to round-off, bit-identical resumes
+// (DEM and contact dynamics), and the default ("auto": large beds only).
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -142,6 +143,7 @@ World<D> shuffled_bed(int side, int layers, double v) {
   }
   w.gravity = Vec::Zero();
   w.gravity[D - 1] = -9.81;
+  w.reorder_every = 0;  // each test says when it sorts
   Wall<D> floor, left;
   floor.point = Vec::Constant(-0.004);
   floor.normal = Vec::Unit(D - 1);
@@ -345,49 +347,104 @@ TEST(GrainReorder, FollowsTheSameTrajectory) {
   EXPECT_LT(dv, 2e-12);
 }
 
-// The pour of run_helpers.hpp, shortened (600 + 1,400 steps), reordering at every second
-// build, a snapshot every 300 steps.
-std::string reorder_pour(const fs::path& dir, int every) {
-  std::string text = test::small_pour_2d(dir.string(), "dem");
+// The pour of run_helpers.hpp, reordering every `every` builds, shortened: DEM 600 + 1,400
+// steps, a snapshot every 300; contact dynamics 150 + 100 steps, a snapshot every 100.
+std::string reorder_pour(const fs::path& dir, int every, const std::string& solver = "dem") {
+  std::string text = test::small_pour_2d(dir.string(), solver);
   text.replace(text.find("[simulation]\n"), 13,
                "[simulation]\nreorder_every = " + std::to_string(every) + "\n");
-  text.replace(text.find("steps = 12000"), 13, "steps = 1400");
-  text.replace(text.find("snapshot_interval = 0"), 21, "snapshot_interval = 300");
+  if (solver == "dem") text.replace(text.find("steps = 12000"), 13, "steps = 1400");
+  if (solver == "cd") text.replace(text.find("steps = 600"), 11, "steps = 100");
+  text.replace(text.find("snapshot_interval = 0"), 21,
+               solver == "dem" ? "snapshot_interval = 300" : "snapshot_interval = 100");
   return text;
 }
 
 // Resuming in the middle of the fall reorders at the same builds as the unbroken run (the
 // build count is in the snapshot): the same state hash, exactly. The same resume without
 // reordering ends elsewhere, so reorders happened after the snapshot and the equality above
-// covers them.
+// covers them. Contact dynamics too: its sweep follows the list, so a sort changes the
+// iterates, and a resume must sort where the unbroken run did.
 TEST(ReorderScenario, ResumeIsBitIdentical) {
-  const fs::path dir = fs::temp_directory_path() / "sable_test_reorder_resume";
-  fs::remove_all(dir);
-  const std::string text = reorder_pour(dir, 2);
-  const auto full = test::run_text(text);
-  ASSERT_EQ(full.steps, 2000u);
-  const std::string snap = (dir / "snapshots" / "step_0000000300.h5").string();
-  const auto resumed = test::run_text(text, {snap, false, 0});
-  EXPECT_EQ(resumed.steps, full.steps);
-  EXPECT_EQ(resumed.state_hash, full.state_hash);
-  const auto unordered = test::run_text(reorder_pour(dir, 0), {snap, false, 0});
-  EXPECT_EQ(unordered.steps, full.steps);
-  EXPECT_NE(unordered.state_hash, full.state_hash);
-  fs::remove_all(dir);
+  struct Case {
+    std::string solver, snapshot;
+    std::uint64_t steps;
+  };
+  for (const Case& c :
+       {Case{"dem", "step_0000000300.h5", 2000}, Case{"cd", "step_0000000100.h5", 250}}) {
+    SCOPED_TRACE(c.solver);
+    const fs::path dir = fs::temp_directory_path() / ("sable_test_reorder_resume_" + c.solver);
+    fs::remove_all(dir);
+    const std::string text = reorder_pour(dir, 2, c.solver);
+    const auto full = test::run_text(text);
+    ASSERT_EQ(full.steps, c.steps);
+    const std::string snap = (dir / "snapshots" / c.snapshot).string();
+    const auto resumed = test::run_text(text, {snap, false, 0});
+    EXPECT_EQ(resumed.steps, full.steps);
+    EXPECT_EQ(resumed.state_hash, full.state_hash);
+    const auto unordered = test::run_text(reorder_pour(dir, 0, c.solver), {snap, false, 0});
+    EXPECT_EQ(unordered.steps, full.steps);
+    EXPECT_NE(unordered.state_hash, full.state_hash);
+    fs::remove_all(dir);
+  }
 }
 
-// reorder_every takes a non-negative integer (default 0 = never); anything else is an
-// InputError naming the key.
+// The default, reorder_every = "auto", sorts every 20th build (the first included) of a bed of
+// 1,000 grains or more and never a smaller one; a number N sorts every N-th build; 0 never.
+TEST(ReorderDefault, SortsEveryTwentiethBuildOfBedsOfAThousandGrains) {
+  const World<3> w3;
+  const World<2> w2;
+  EXPECT_EQ(w3.reorder_every, kReorderAuto);
+  EXPECT_EQ(w2.reorder_every, kReorderAuto);
+  for (std::uint64_t build : {0u, 20u, 40u, 1000u}) {
+    EXPECT_TRUE(reorder_due(kReorderAuto, build, 1000)) << build;
+    EXPECT_TRUE(reorder_due(kReorderAuto, build, 125000)) << build;
+    EXPECT_FALSE(reorder_due(kReorderAuto, build, 999)) << build;
+    EXPECT_FALSE(reorder_due(0, build, 125000)) << build;
+  }
+  for (std::uint64_t build : {1u, 19u, 21u, 39u})
+    EXPECT_FALSE(reorder_due(kReorderAuto, build, 1000));
+  for (std::uint64_t build : {0u, 3u, 6u, 300u}) EXPECT_TRUE(reorder_due(3, build, 10)) << build;
+  for (std::uint64_t build : {1u, 2u, 4u, 301u}) EXPECT_FALSE(reorder_due(3, build, 10)) << build;
+}
+
+// The default in a solver: a shuffled bed of 1,024 grains is in cell order after the first
+// build (every grain's slot is where cell_order puts it), one of 960 keeps its slots.
+TEST(ReorderDefault, TheFirstBuildSortsALargeShuffledBedOnly) {
+  for (const auto& [side, layers] : {std::pair{16, 4}, std::pair{16, 3}}) {
+    World<3> w = shuffled_bed<3>(side, layers, 0.01);
+    w.reorder_every = kReorderAuto;
+    const std::vector<ParticleId> ids = w.particles.id;
+    const std::size_t n = ids.size();
+    ASSERT_TRUE(n == 1024 || n == 768) << n;
+    std::vector<std::uint32_t> expected;
+    Keys scratch;
+    const double cell = 2.0 * 0.2e-3 + w.neighbors.skin;  // 2 R_max + skin
+    cell_order<3>(w.particles.x, w.neighbors.domain_lo, w.neighbors.domain_hi, cell, expected,
+                  scratch);
+    DemSolver<3> solver(w);
+    solver.initialize();
+    if (n >= kAutoReorderMinGrains) {
+      for (std::size_t s = 0; s < n; ++s) ASSERT_EQ(w.particles.id[s], ids[expected[s]]) << s;
+    } else {
+      EXPECT_EQ(w.particles.id, ids);
+    }
+  }
+}
+
+// reorder_every takes a non-negative integer or "auto" (the default); anything else is an
+// InputError naming the key and what it takes.
 TEST(ReorderScenario, RejectsABadReorderEvery) {
   const std::string base = test::small_pour_2d("unused", "dem");
   auto with = [&base](const std::string& value) {
     return std::string(base).replace(base.find("[simulation]\n"), 13,
                                      "[simulation]\nreorder_every = " + value + "\n");
   };
-  EXPECT_EQ(parse_scenario(base, "t.toml").sim.reorder_every, 0u);
+  EXPECT_FALSE(parse_scenario(base, "t.toml").sim.reorder_every.has_value());
+  EXPECT_FALSE(parse_scenario(with("\"auto\""), "t.toml").sim.reorder_every.has_value());
   EXPECT_EQ(parse_scenario(with("0"), "t.toml").sim.reorder_every, 0u);
   EXPECT_EQ(parse_scenario(with("7"), "t.toml").sim.reorder_every, 7u);
-  for (const char* bad : {"-1", "\"x\"", "2.5"}) {
+  for (const char* bad : {"-1", "\"x\"", "\"Auto\"", "2.5", "true"}) {
     try {
       parse_scenario(with(bad), "t.toml");
       ADD_FAILURE() << "expected an InputError for reorder_every = " << bad;
@@ -395,6 +452,7 @@ TEST(ReorderScenario, RejectsABadReorderEvery) {
       const std::string msg = e.what();
       EXPECT_NE(msg.find("simulation.reorder_every"), std::string::npos) << msg;
       EXPECT_NE(msg.find("non-negative integer"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("\"auto\""), std::string::npos) << msg;
     }
   }
 }

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "sable/cd/nlgs.hpp"
+#include "sable/world/reorder.hpp"
 #include "sable/world/solver.hpp"
 #include "sable/world/world.hpp"
 
@@ -87,6 +88,7 @@ class CdSolver final : public Solver {
   class Problem;
 
  private:
+  void build_lists();
   void build_contacts();
   template <bool kWall>
   void add_contact(std::uint32_t i, std::uint32_t partner, std::uint32_t source, const Vec& n,
@@ -104,6 +106,7 @@ class CdSolver final : public Solver {
   Contacts c_;
   std::vector<WallDof> dofs_;  // per wall once set_wall_bodies was called, else empty
   cd::NlgsResult result_;
+  GrainReorder<D> reorder_;
 };
 
 }  // namespace sable

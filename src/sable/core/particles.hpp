@@ -23,8 +23,9 @@ enum ParticleFlags : std::uint8_t {
 // shape table, which is why the kind is stored per grain and not per run.
 enum class ShapeKind : std::uint8_t { kRound = 0 };
 
-// A new per-grain field must also be moved by GrainReorder::apply() (world/reorder.cpp),
-// which permutes every field when the DEM solver sorts the slots.
+// A new per-grain field goes into for_each_array() (GrainReorder moves the grains' slots
+// through it), add(), the snapshot (io/snapshot.cpp) and the state hash (world/state_hash.hpp);
+// the static_assert below the struct stops the build until the count there is raised.
 template <int D>
 struct ParticleStore {
   using S = Space<D>;
@@ -51,6 +52,27 @@ struct ParticleStore {
   IdRegistry ids;
 
   std::size_t size() const { return x.size(); }
+
+  // f(array) for every per-grain array (all but `ids`): what must move together when the
+  // slots are permuted (world/reorder.cpp).
+  template <class Visit>
+  void for_each_array(Visit&& visit) {
+    visit(x);
+    visit(v);
+    visit(w);
+    visit(f);
+    visit(t);
+    visit(radius);
+    visit(inv_mass);
+    visit(inv_inertia);
+    visit(material);
+    visit(flags);
+    visit(q);
+    visit(mass);
+    visit(id);
+    visit(shape);
+  }
+  static constexpr std::size_t kArrays = 14;  // how many for_each_array() visits
   bool fixed(std::size_t i) const { return (flags[i] & kFixed) != 0; }
 
   // Append a round grain. `thickness` is the out-of-plane depth of a 2D run (mass per
@@ -83,5 +105,14 @@ struct ParticleStore {
     return D == 3 ? density * 4.0 / 3.0 * pi * r * r * r : density * pi * r * r * thickness;
   }
 };
+
+// A per-grain array added to ParticleStore changes its size: this stops the build until the
+// array is in for_each_array() (and add(), the snapshot, the state hash) and kArrays counts it.
+static_assert(sizeof(ParticleStore<3>) ==
+                  ParticleStore<3>::kArrays * sizeof(std::vector<double>) + sizeof(IdRegistry),
+              "a new per-grain array: list it in ParticleStore::for_each_array() (see above)");
+static_assert(sizeof(ParticleStore<2>) ==
+                  ParticleStore<2>::kArrays * sizeof(std::vector<double>) + sizeof(IdRegistry),
+              "a new per-grain array: list it in ParticleStore::for_each_array() (see above)");
 
 }  // namespace sable

@@ -35,13 +35,14 @@ void DemSolver<D>::initialize() {
   compute_forces();
 }
 
-// A neighbour-list build, preceded at every reorder_every-th build (counting from the first,
-// by the saved build count, so that a resumed run reorders where the unbroken one did) by
-// moving the grains into cell order (world/reorder.hpp). The order follows from the
-// positions alone: the same for any number of threads.
+// A neighbour-list build, preceded at every reorder_every-th build (reorder_due(): by
+// default every 20th for beds of 1,000 grains or more; counting from the first, by the saved
+// build count, so that a resumed run reorders where the unbroken one did) by moving the
+// grains into cell order (world/reorder.hpp). The order follows from the positions alone:
+// the same for any number of threads.
 template <int D>
 void DemSolver<D>::build_lists() {
-  if (w_.reorder_every > 0 && w_.neighbors.builds % w_.reorder_every == 0) reorder_.apply(w_);
+  if (reorder_due(w_.reorder_every, w_.neighbors.builds, w_.particles.size())) reorder_.apply(w_);
   w_.neighbors.build(w_.particles, w_.walls);
 }
 

@@ -91,7 +91,7 @@ void build_model(const ScenarioConfig& cfg, World<D>& w) {
   w.overlap_warning = cfg.sim.overlap_warning;
   w.max_speed = cfg.sim.max_speed;
   w.track_orientation = cfg.sim.track_orientation;
-  w.reorder_every = cfg.sim.reorder_every;
+  w.reorder_every = cfg.sim.reorder_every.value_or(kReorderAuto);
   w.rng.reseed(cfg.sim.seed);
   w.neighbors.domain_lo = S::from_array(cfg.domain.lo);
   w.neighbors.domain_hi = S::from_array(cfg.domain.hi);

@@ -41,7 +41,8 @@ struct SimulationConfig {
   double overlap_warning = 0.05;  // warn when an overlap exceeds this fraction of the radius
   double max_speed = 1.0e3;       // m/s; a faster grain is a runaway and stops the run
   bool track_orientation = true;  // integrate the grains' orientations (see docs/scenario.md)
-  std::uint64_t reorder_every = 0;  // neighbour builds between cell-order sorts; 0: never
+  // Neighbour builds between cell-order sorts (0: never); absent ("auto"): World's default.
+  std::optional<std::uint64_t> reorder_every;
 };
 
 // Contact dynamics (solver = "cd"): Moreau-Jean time stepping and the NLGS contact solver.

@@ -57,7 +57,18 @@ SimulationConfig parse_simulation(const Table& root) {
   sim.overlap_warning = t->number_or("overlap_warning", kPositive, sim.overlap_warning);
   sim.max_speed = t->number_or("max_speed", kPositive, sim.max_speed);
   sim.track_orientation = t->boolean_or("track_orientation", sim.track_orientation);
-  sim.reorder_every = t->unsigned_or("reorder_every", sim.reorder_every);
+  if (const toml::node* r = t->find("reorder_every")) {
+    const auto* word = r->as_string();
+    const auto* count = r->as_integer();
+    if (word != nullptr && word->get() == "auto") {
+      sim.reorder_every.reset();
+    } else if (count != nullptr && count->get() >= 0) {
+      sim.reorder_every = static_cast<std::uint64_t>(count->get());
+    } else {
+      t->fail("reorder_every",
+              "a non-negative integer (neighbour builds between sorts, 0: never) or \"auto\"");
+    }
+  }
   return sim;
 }
 

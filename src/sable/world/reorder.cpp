@@ -83,20 +83,7 @@ bool GrainReorder<D>::apply(World<D>& w) {
   for (std::size_t k = 0; k < n && identity; ++k) identity = order_[k] == k;
   if (identity) return false;
 
-  apply_order(p.x, order_, seen_);
-  apply_order(p.v, order_, seen_);
-  apply_order(p.w, order_, seen_);
-  apply_order(p.f, order_, seen_);
-  apply_order(p.t, order_, seen_);
-  apply_order(p.radius, order_, seen_);
-  apply_order(p.inv_mass, order_, seen_);
-  apply_order(p.inv_inertia, order_, seen_);
-  apply_order(p.material, order_, seen_);
-  apply_order(p.flags, order_, seen_);
-  apply_order(p.q, order_, seen_);
-  apply_order(p.mass, order_, seen_);
-  apply_order(p.id, order_, seen_);
-  apply_order(p.shape, order_, seen_);
+  p.for_each_array([this](auto& array) { apply_order(array, order_, seen_); });
   for (std::size_t s = 0; s < n; ++s) p.ids.move(p.id[s], static_cast<std::uint32_t>(s));
   apply_order(w.liquid.film, order_, seen_);
   apply_order(nl.x_ref, order_, seen_);

@@ -18,6 +18,7 @@
 // run resumed from a snapshot reorders at the same builds (the build count is saved).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -25,6 +26,31 @@
 #include "sable/world/world.hpp"
 
 namespace sable {
+
+// What reorder_every = kReorderAuto does: a sort every kAutoReorderEvery builds (one costs
+// about half a build: at most ~2.5 % of the list's upkeep), for beds of kAutoReorderMinGrains
+// grains or more, by either solver. Smaller beds are left in their order: a bed that small is
+// in cache as a whole and the DEM step runs it on one thread (DemSolver splits from 2,048
+// items, grains plus near-list entries), so the order of its slots hardly matters, and its
+// bits stay those of earlier versions. Measured on dense lattices with shuffled slots
+// (BM_DemStepOrder, BM_CdStepOrder; docs/BENCHMARKS.md, sixteenth and seventeenth sessions):
+// DEM, one thread: no loss at 2,197 grains, 19 % at 19,683, 54 % at 125,000; two threads:
+// anywhere from none to 66 % at 2,197 and 19,683 grains, from one run to the next (the
+// blocks' cut settles differently); contact dynamics, 10 sweeps a step: 3.2x slower at 2,197
+// grains and 8.7x at 19,683, the NLGS iterates of a scrambled sweep order lingering in the
+// exact local solver's costly sliding branch.
+inline constexpr std::uint64_t kAutoReorderEvery = 20;
+inline constexpr std::size_t kAutoReorderMinGrains = 1000;
+
+// Whether the neighbour build numbered `build` (0: the first) is preceded by a sort, for
+// reorder_every = `every` and n grains.
+inline bool reorder_due(std::uint64_t every, std::uint64_t build, std::size_t n) {
+  if (every == kReorderAuto) {
+    if (n < kAutoReorderMinGrains) return false;
+    every = kAutoReorderEvery;
+  }
+  return every > 0 && build % every == 0;
+}
 
 // Grain slots sorted by the cell of edge `cell` of the grid over [lo, hi] that holds them,
 // row by row, the axis of the most cells varying slowest (ties: the higher axis), the fewest

@@ -27,6 +27,10 @@ struct LiquidState {
   bool wet() const { return total > 0.0; }
 };
 
+// World::reorder_every's default: the solver decides from the number of grains
+// (world/reorder.hpp, reorder_due()).
+inline constexpr std::uint64_t kReorderAuto = ~std::uint64_t{0};
+
 template <int D>
 struct World {
   using Vec = typename Space<D>::Vec;
@@ -46,10 +50,12 @@ struct World {
   // does not read it may leave it as it is (LIGGGHTS' atom_style granular keeps none); the
   // drift costs ~8 % less (docs/BENCHMARKS.md).
   bool track_orientation = true;
-  // Every how many neighbour-list builds the DEM solver moves the grains into cell order
-  // first (world/reorder.hpp): their slots then follow space, and the pair pass finds each
-  // grain's partners in cache. 0: never.
-  std::uint64_t reorder_every = 0;
+  // Every how many neighbour-list builds the solver (DEM or contact dynamics) moves the
+  // grains into cell order first (world/reorder.hpp): their slots then follow space, and a
+  // pass over the contacts finds each grain's partners in cache. 0: never; kReorderAuto
+  // (the default): every kAutoReorderEvery builds once the world holds kAutoReorderMinGrains
+  // grains (reorder_due()).
+  std::uint64_t reorder_every = kReorderAuto;
   double time = 0.0;
   std::uint64_t step = 0;
   Rng rng;
