@@ -394,7 +394,8 @@ def build_table(root, meta, runs):
       "grain of those grains; floor / weight = vertical force of the bottom wall on the grains "
       "at the last step / (N rho 4/3 pi r^3 g). One bed per code is one draw: the floor's "
       "share of the weight changes with any round-off (LIGGGHTS' 1- and 2-rank beds differ); "
-      "`bench/peers/seeds.sh` compares the two codes' distributions over seeds.")
+      "`bench/peers/seeds.sh` compares the two codes' distributions over seeds, "
+      "`bench/peers/roundoff.sh` over trajectories of one bed.")
     w("")
     w("| quantity | cores | LIGGGHTS | Sable | Sable - LIGGGHTS (relative) | target | met |")
     w("|---|---|---|---|---|---|---|")

@@ -46,20 +46,21 @@ peers_gcd() { local a=$1 b=$2 t; while [ "$b" -ne 0 ]; do t=$((a % b)); a=$b; b=
 
 # peers_run_liggghts ROOT DIR CORES E DT NSETTLE NSTATIC [MPI flags...]: one LIGGGHTS run in DIR
 # (log.liggghts, out/bed.dump, mem.rank*.txt), GNU time around each rank for its peak memory.
+# The input is $here/in.pour.liggghts, or PEERS_LIGGGHTS_IN when set (roundoff.sh's variants).
 peers_run_liggghts() {
-  local root=$1 d=$2 cores=$3 rc=0
+  local root=$1 d=$2 cores=$3 rc=0 input="${PEERS_LIGGGHTS_IN:-$here/in.pour.liggghts}"
   local vars=(-var data "$root/lattice20k.data" -var dt "$5" -var nsettle "$6" -var nstatic "$7"
               -var tag bed -var E "$4" -var px "$cores")
   shift 7
   mkdir -p "$d/out"
   if [ "$cores" -eq 1 ]; then
     (cd "$d" && /usr/bin/time -v -o mem.rank0.txt \
-      liggghts -in "$here/in.pour.liggghts" -log log.liggghts "${vars[@]}" > stdout.txt 2>&1) || rc=$?
+      liggghts -in "$input" -log log.liggghts "${vars[@]}" > stdout.txt 2>&1) || rc=$?
   else
     # GNU time around each rank (around mpirun it would see only mpirun itself).
     (cd "$d" && mpirun "$@" -np "$cores" sh -c \
       'exec /usr/bin/time -v -o "mem.rank${OMPI_COMM_WORLD_RANK:-${PMI_RANK:-$$}}.txt" "$0" "$@"' \
-      liggghts -in "$here/in.pour.liggghts" -log log.liggghts "${vars[@]}" > stdout.txt 2>&1) || rc=$?
+      liggghts -in "$input" -log log.liggghts "${vars[@]}" > stdout.txt 2>&1) || rc=$?
   fi
   if [ $rc -ne 0 ]; then echo "LIGGGHTS failed (exit $rc), $d:" >&2; tail -20 "$d/stdout.txt" >&2; return 1; fi
 }

@@ -173,18 +173,11 @@ template <int D>
 void CdSolver<D>::initialize() {
   // The lists carry rolling couples exactly when the law has rolling resistance.
   w_.neighbors.rolling = w_.model.rolling != RollingModel::kNone;
-  build_lists();
-}
-
-// A neighbour-list build, preceded at the builds reorder_due() names by moving the grains
-// into cell order (world/reorder.hpp), as in the DEM solver. The contacts, and so the NLGS
-// sweep, follow the list's order: a sort changes the sweep's order, and with it the
-// iterates, not the problem (the same contacts, impulses carried with their pairs). The
-// step keeps no per-grain state of its own to move.
-template <int D>
-void CdSolver<D>::build_lists() {
-  if (reorder_due(w_.reorder_every, w_.neighbors.builds, w_.particles.size())) reorder_.apply(w_);
-  w_.neighbors.build(w_.particles, w_.walls);
+  // The builds sort the grains into cell order when due (world/reorder.hpp), as in the DEM
+  // solver. The contacts, and so the NLGS sweep, follow the list's order: a sort changes the
+  // sweep's order, and with it the iterates, not the problem (the same contacts, impulses
+  // carried with their pairs). The step keeps no per-grain state of its own to move.
+  reorder_.build_lists(w_);
 }
 
 // One Moreau-Jean step:
@@ -210,7 +203,7 @@ void CdSolver<D>::step() {
   {
     auto scope = timers_.time(Phase::kNeighbors);
     // Contacts that can close during this step must be candidates now.
-    if (w_.neighbors.needs_rebuild(p, w_.walls, 2.0 * h * max_speed())) build_lists();
+    if (w_.neighbors.needs_rebuild(p, w_.walls, 2.0 * h * max_speed())) reorder_.build_lists(w_);
   }
   {
     auto scope = timers_.time(Phase::kContacts);

@@ -88,7 +88,6 @@ class CdSolver final : public Solver {
   class Problem;
 
  private:
-  void build_lists();
   void build_contacts();
   template <bool kWall>
   void add_contact(std::uint32_t i, std::uint32_t partner, std::uint32_t source, const Vec& n,

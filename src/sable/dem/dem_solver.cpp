@@ -31,19 +31,8 @@ template <int D>
 void DemSolver<D>::initialize() {
   // The lists carry rolling springs exactly when the law has rolling resistance.
   w_.neighbors.rolling = w_.model.rolling != RollingModel::kNone;
-  build_lists();
+  reorder_.build_lists(w_);  // sorting the grains first when due (world/reorder.hpp)
   compute_forces();
-}
-
-// A neighbour-list build, preceded at every reorder_every-th build (reorder_due(): by
-// default every 20th for beds of 1,000 grains or more; counting from the first, by the saved
-// build count, so that a resumed run reorders where the unbroken one did) by moving the
-// grains into cell order (world/reorder.hpp). The order follows from the positions alone:
-// the same for any number of threads.
-template <int D>
-void DemSolver<D>::build_lists() {
-  if (reorder_due(w_.reorder_every, w_.neighbors.builds, w_.particles.size())) reorder_.apply(w_);
-  w_.neighbors.build(w_.particles, w_.walls);
 }
 
 // One velocity-Verlet step. Forces at t are known on entry (from the previous step or
@@ -61,7 +50,7 @@ void DemSolver<D>::step() {
   }
   {
     auto scope = timers_.time(Phase::kNeighbors);
-    if (w_.neighbors.needs_rebuild_after(moved.outer2, w_.walls)) build_lists();
+    if (w_.neighbors.needs_rebuild_after(moved.outer2, w_.walls)) reorder_.build_lists(w_);
   }
   const bool unsound = forces(&moved, 0.5 * h);  // and the closing half kick
   for (GrainSplit* split : {&drift_split_, &pair_split_, &finish_split_})

@@ -82,7 +82,6 @@ class DemSolver final : public Solver {
   struct PairPass;
   PairPass pair_pass();
   void prepare_rolling(bool wet);
-  void build_lists();
   void settle_liquid();
 
   World<D>& w_;

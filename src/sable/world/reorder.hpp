@@ -71,6 +71,14 @@ class GrainReorder {
   // changing nothing, when they already are in that order. Call it just before
   // NeighborList::build().
   bool apply(World<D>& w);
+  // A neighbour-list build, preceded by apply() when reorder_due() names it (counting builds
+  // from the first, by the saved build count, so that a resumed run sorts where the unbroken
+  // one did): what both solvers call at every build. The order follows from the positions
+  // alone, so it is the same for any number of threads.
+  void build_lists(World<D>& w) {
+    if (reorder_due(w.reorder_every, w.neighbors.builds, w.particles.size())) apply(w);
+    w.neighbors.build(w.particles, w.walls);
+  }
   std::uint64_t reorders = 0;  // how many times apply() moved the grains
 
  private:
