@@ -75,3 +75,13 @@ peers_run_sable() {
   if [ $rc -ne 0 ]; then echo "Sable failed (exit $rc), $d:" >&2; tail -20 "$d/stderr.txt" >&2; return 1; fi
   rm -rf "$d/sim/snapshots"  # not needed for the comparison (two 1-2 MB HDF5 files per run)
 }
+
+# peers_run_finished DIR CODE: the run in DIR got to its end (its final bed is written); for
+# RESUME=1 in seeds.sh and roundoff.sh.
+peers_run_finished() {
+  if [ "$2" = liggghts ]; then
+    grep -q FINAL_DUMP_WRITTEN "$1/log.liggghts" 2>/dev/null && [ -s "$1/out/bed.dump" ]
+  else
+    grep -q "state hash" "$1/stderr.txt" 2>/dev/null
+  fi
+}

@@ -72,20 +72,12 @@ VARIANTS=(
   "sable-r17 sable 1 17"
 )
 
-run_finished() {  # DIR CODE: the run in DIR got to its end
-  if [ "$2" = liggghts ]; then
-    grep -q FINAL_DUMP_WRITTEN "$1/log.liggghts" 2>/dev/null && [ -s "$1/out/bed.dump" ]
-  else
-    grep -q "state hash" "$1/stderr.txt" 2>/dev/null
-  fi
-}
-
 # Worker mode (one run; called by xargs below): --job SEED NAME CODE CORES CHANGE
 if [ "${1:-}" = --job ]; then
   seed=$2 name=$3 code=$4 cores=$5 change=${6//:/ }
   root="$PEERS_OUT/$name/soft"
   d="$root/runs/r1_c${cores}_$code"
-  if [ "${RESUME:-0}" = 1 ] && run_finished "$d" "$code"; then exit 0; fi
+  if [ "${RESUME:-0}" = 1 ] && peers_run_finished "$d" "$code"; then exit 0; fi
   rm -rf "$d"
   mkdir -p "$root/runs"
   peers_inputs "$root" "$seed" "$E" "$DT" "$NSETTLE" "$NSTATIC"

@@ -31,21 +31,12 @@ NSTATIC="${NSTATIC:-5000}"
 # shellcheck source=lib.sh
 source "$here/lib.sh"
 
-# run_finished DIR CODE: the run in DIR got to its end (its final bed is written).
-run_finished() {
-  if [ "$2" = liggghts ]; then
-    grep -q FINAL_DUMP_WRITTEN "$1/log.liggghts" 2>/dev/null && [ -s "$1/out/bed.dump" ]
-  else
-    grep -q "state hash" "$1/stderr.txt" 2>/dev/null
-  fi
-}
-
 # Worker mode (one run; called by xargs below): --job ROOT CODE CORES
 if [ "${1:-}" = --job ]; then
   root=$2 code=$3 cores=$4
   d="$root/runs/r1_c${cores}_$code"
   t0=$(date +%s)
-  if [ "${RESUME:-0}" = 1 ] && run_finished "$d" "$code"; then exit 0; fi
+  if [ "${RESUME:-0}" = 1 ] && peers_run_finished "$d" "$code"; then exit 0; fi
   rm -rf "$d"
   if [ "$code" = liggghts ]; then
     # One-rank runs share the cores with others, so no binding; root needs OpenMPI's consent.
