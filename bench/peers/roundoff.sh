@@ -19,15 +19,14 @@
 #   LIGGGHTS 3.8, 1 rank: its atoms are sorted in memory by spatial bin every 1000 steps
 #     (atom_modify sort, default: bins of half the neighbour cutoff); a grain's pair forces are
 #     summed in its neighbour list's order, which follows the atoms' order. Variants: the input
-#     as is (compare.sh's 1-rank bed), no sort, a sort every 250, 500, 750, 2000 and 3000 steps,
-#     bins of 1.5 mm (the default bins are 1 mm, half of 2 r + skin: `sort 1000 0.001` gives
-#     the input's bed bit for bit).
+#     as is (compare.sh's 1-rank bed), no sort, a sort every 100, 250, 500, 750, 1250, 1500,
+#     2000, 3000 and 5000 steps, bins of 0.75, 1.5 and 2 mm (the default bins are 1 mm, half of
+#     2 r + skin: `sort 1000 0.001` gives the input's bed bit for bit).
 #   LIGGGHTS 3.8, 2 ranks: the domain cut in x (compare.sh's 2-rank bed) and in y (`processors
 #     1 2 1`): the ranks sum the forces on the ghost grains of their boundary in other orders.
 #   Sable, 1 thread (its bed is the same for any thread count): reorder_every = "auto" (the
-#     default: compare.sh's bed), 0 (never sorted), 1, 2, 3, 4, 5, 7, 9, 11, 13 and 17 (the
-#     grains' slots sorted by cell at other builds; the pairs, and so each grain's sum, follow
-#     the slots).
+#     default: compare.sh's bed), 0 (never sorted) and 1-13 and 17 (the grains' slots sorted
+#     by cell at other builds; the pairs, and so each grain's sum, follow the slots).
 # No timing is measured (one-core runs share the machine JOBS at a time; a 2-rank run runs
 # alone afterwards). Output: PEERS_OUT/CODE-VARIANT/soft/ (compare.sh's layout) and the table
 # PEERS_OUT/roundoff.md (bench/peers/roundoff.py).
@@ -56,6 +55,12 @@ VARIANTS=(
   "liggghts-sort-250 liggghts 1 atom_modify:sort:250:0.0"
   "liggghts-sort-750 liggghts 1 atom_modify:sort:750:0.0"
   "liggghts-sort-3000 liggghts 1 atom_modify:sort:3000:0.0"
+  "liggghts-sort-100 liggghts 1 atom_modify:sort:100:0.0"
+  "liggghts-sort-1250 liggghts 1 atom_modify:sort:1250:0.0"
+  "liggghts-sort-1500 liggghts 1 atom_modify:sort:1500:0.0"
+  "liggghts-sort-5000 liggghts 1 atom_modify:sort:5000:0.0"
+  "liggghts-bin-2mm liggghts 1 atom_modify:sort:1000:0.002"
+  "liggghts-bin-0.75mm liggghts 1 atom_modify:sort:1000:0.00075"
   "liggghts-2ranks-x liggghts 2 -"
   "liggghts-2ranks-y liggghts 2 cut-y"
   "sable-auto sable 1 -"
@@ -70,6 +75,10 @@ VARIANTS=(
   "sable-r9 sable 1 9"
   "sable-r11 sable 1 11"
   "sable-r17 sable 1 17"
+  "sable-r6 sable 1 6"
+  "sable-r8 sable 1 8"
+  "sable-r10 sable 1 10"
+  "sable-r12 sable 1 12"
 )
 
 # Worker mode (one run; called by xargs below): --job SEED NAME CODE CORES CHANGE
