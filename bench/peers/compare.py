@@ -330,6 +330,39 @@ def build_table(root, meta, runs):
 
     out = []
     w = out.append
+    checks = []  # (target's text, True / False / None when not measurable)
+    header_section(w, meta, ok_runs, stiff)
+    speed_section(w, sel, cores_list, checks)
+    memory_section(w, sel, cores_list, checks)
+    physics_section(w, sel, cores_list, checks, stiff)
+    met = [n for n, ok in checks if ok]
+    missed = [n for n, ok in checks if ok is False]
+    unknown = [n for n, ok in checks if ok is None]
+    w(f"**Targets met: {len(met)} of {len(checks)}.**" +
+      (" Not met: " + "; ".join(missed) + "." if missed else "") +
+      (" Not measurable (no data, or zero/NaN reference): " + "; ".join(unknown) + "."
+       if unknown else ""))
+    w("")
+    w("## Runs")
+    w("")
+    w("| run | code | cores | (a) s | (a) M p-steps/s | (b) s | (b) M p-steps/s | peak MiB | "
+      "solid fr. | coord. | floor/weight | bulk grains | note |")
+    w("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in sorted(runs, key=lambda r: (r["rep"], r["cores"], r["code"])):
+        if "error" in r:
+            w(f"| {r['rep']} | {r['code']} | {r['cores']} | | | | | | | | | | "
+              f"FAILED: {r['error']} |")
+            continue
+        p = r["phys"]
+        note = f"state hash {r['hash']}" if r["code"] == "sable" else f"{r['processes']} rank(s)"
+        w(f"| {r['rep']} | {r['code']} | {r['cores']} | {r['settle']['seconds']:.2f} | "
+          f"{fmt_m(r['settle']['rate'])} | {r['dense']['seconds']:.2f} | "
+          f"{fmt_m(r['dense']['rate'])} | {r['mem_mib']:.1f} | {p['solid_fraction']:.4f} | "
+          f"{p['coordination']:.3f} | {p['floor_force']:.4f} | {p['bulk_grains']} | {note} |")
+    return "\n".join(out) + "\n"
+
+
+def header_section(w, meta, ok_runs, stiff):
     w(f"# LIGGGHTS 3.8 vs Sable on the pour bed ({meta.get('variant', '?')} variant)")
     w("")
     w(f"- {meta.get('date', '?')}, {meta.get('machine', '?')}")
@@ -347,11 +380,18 @@ def build_table(root, meta, runs):
           "continues it; the physics rows compare the two beds at the same instant, for "
           "information only (no target)")
     w("")
+
+
+def speed_section(w, sel, cores_list, checks):
+    def per_repeat_scaling(code):
+        one = {r["rep"]: r["dense"]["rate"] for r in sel(code, 1)}
+        two = {r["rep"]: r["dense"]["rate"] for r in sel(code, 2)}
+        return ", ".join(f"{two[k] / one[k]:.2f}x" for k in sorted(one) if k in two) or "n/a"
+
     w("## Speed (million particle-steps/s: median, min-max over repeats)")
     w("")
     w("| phase | cores | LIGGGHTS | Sable | Sable / LIGGGHTS (medians) | target | vs target | met |")
     w("|---|---|---|---|---|---|---|---|")
-    checks = []
     for phase, label in (("settle", "(a) settling"), ("dense", "(b) dense")):
         for c in cores_list:
             lv = [r[phase]["rate"] for r in sel("liggghts", c)]
@@ -373,7 +413,15 @@ def build_table(root, meta, runs):
         checks.append((f"(b) dense: Sable 2 threads / 1 thread >= {t}", ok))
         w(f"| (b) dense: 2 cores / 1 core | - | {ls:.2f}x | {ss:.2f}x | - | Sable >= {t:.1f}x | "
           f"{ss - t:+.2f}x | {yes(ok)} |")
+        w("")
+        w("Dense phase, 2 cores / 1 core per repeat, for information (the target reads the "
+          f"medians): Sable {per_repeat_scaling('sable')}; LIGGGHTS "
+          f"{per_repeat_scaling('liggghts')}. compare.sh runs Sable's two back to back, with "
+          "LIGGGHTS' on either side.")
     w("")
+
+
+def memory_section(w, sel, cores_list, checks):
     w("## Peak memory (MiB, median over repeats; LIGGGHTS: sum over ranks)")
     w("")
     w("| cores | LIGGGHTS | Sable | Sable / LIGGGHTS | target | met |")
@@ -386,6 +434,9 @@ def build_table(root, meta, runs):
         checks.append((f"memory, {c} core(s): Sable <= LIGGGHTS", ok))
         w(f"| {c} | {lm:.1f} | {sm:.1f} | {ratio:.2f} | <= 1.00 | {yes(ok)} |")
     w("")
+
+
+def physics_section(w, sel, cores_list, checks, stiff):
     w("## The bed at the end of phase (b) (median over repeats)")
     w("")
     w("Bulk region: 3 d <= x, y <= 30 mm - 3 d and 3 d <= z <= z_surface - 3 d, z_surface = mean "
@@ -413,31 +464,6 @@ def build_table(root, meta, runs):
             w(f"| {label} | {c} | {f.format(lv)} | {f.format(sv)} | {rel * 100:+.2f} % | "
               f"{'info' if stiff else f'+-{t * 100:.0f} %'} | {yes(ok)} |")
     w("")
-    met = [n for n, ok in checks if ok]
-    missed = [n for n, ok in checks if ok is False]
-    unknown = [n for n, ok in checks if ok is None]
-    w(f"**Targets met: {len(met)} of {len(checks)}.**" +
-      (" Not met: " + "; ".join(missed) + "." if missed else "") +
-      (" Not measurable (no data, or zero/NaN reference): " + "; ".join(unknown) + "."
-       if unknown else ""))
-    w("")
-    w("## Runs")
-    w("")
-    w("| run | code | cores | (a) s | (a) M p-steps/s | (b) s | (b) M p-steps/s | peak MiB | "
-      "solid fr. | coord. | floor/weight | bulk grains | note |")
-    w("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for r in sorted(runs, key=lambda r: (r["rep"], r["cores"], r["code"])):
-        if "error" in r:
-            w(f"| {r['rep']} | {r['code']} | {r['cores']} | | | | | | | | | | "
-              f"FAILED: {r['error']} |")
-            continue
-        p = r["phys"]
-        note = f"state hash {r['hash']}" if r["code"] == "sable" else f"{r['processes']} rank(s)"
-        w(f"| {r['rep']} | {r['code']} | {r['cores']} | {r['settle']['seconds']:.2f} | "
-          f"{fmt_m(r['settle']['rate'])} | {r['dense']['seconds']:.2f} | "
-          f"{fmt_m(r['dense']['rate'])} | {r['mem_mib']:.1f} | {p['solid_fraction']:.4f} | "
-          f"{p['coordination']:.3f} | {p['floor_force']:.4f} | {p['bulk_grains']} | {note} |")
-    return "\n".join(out) + "\n"
 
 
 def main(argv):

@@ -118,9 +118,19 @@ n=0
 total=$((REPEATS * $(wc -w <<< "$CORES") * 2))
 t0=$(date +%s)
 for rep in $(seq 1 "$REPEATS"); do
-  for c in $CORES; do
-    # alternate which code goes first: L S, S L, S L, L S, L S, S L, ...
-    if [ $(((rep + c) % 2)) -eq 0 ]; then order="liggghts sable"; else order="sable liggghts"; fi
+  # A snake through the core counts, so that every comparison the targets make is between runs
+  # back to back: repeat 1 runs L1 S1 S2 L2, repeat 2 L2 S2 S1 L1, and so on (L = LIGGGHTS,
+  # S = Sable, the digit the cores). Each code's speed at one core count is timed next to the
+  # other's, and Sable's two threads next to its one thread: the VM's speed drifts by 10-50 %
+  # over minutes, and in the order used until the nineteenth session (L1 S1 S2 L2, then
+  # S1 L1 L2 S2) every other repeat had S1 and S2 two LIGGGHTS runs apart.
+  # Who goes first at a core count alternates between repeats.
+  seq_cores=$CORES
+  [ $((rep % 2)) -eq 0 ] && seq_cores=$(tr ' ' '\n' <<< "$CORES" | grep . | tac | tr '\n' ' ')
+  i=0
+  for c in $seq_cores; do
+    if [ $((i % 2)) -eq 0 ]; then order="liggghts sable"; else order="sable liggghts"; fi
+    i=$((i + 1))
     for code in $order; do
       n=$((n + 1))
       echo "[$n/$total] repeat $rep, $c core(s), $code ($(($(date +%s) - t0)) s elapsed)" >&2
