@@ -4,6 +4,9 @@
 // threads' times are known exactly (proportional to the speeds).
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
+#include <atomic>
 #include <cstdint>
 #include <numeric>
 #include <vector>
@@ -140,3 +143,71 @@ TEST(GrainSplit, FixedSharesIgnoreTheTimes) {
 }
 
 }  // namespace
+
+namespace {
+
+// Takes every chunk of `split` on `threads` threads, each its own block first and then the
+// others' (as the grain loops do); counts how often each grain was handed out.
+std::vector<int> take_all_chunks(GrainSplit& split, std::size_t n, int threads) {
+  std::vector<std::atomic<int>> taken(n);
+  split.open_chunks();
+#pragma omp parallel num_threads(threads)
+  {
+    const int thread = omp_get_thread_num(), blocks = split.blocks();
+    std::uint32_t g0 = 0, g1 = 0;
+    for (int k = 0; k < blocks; ++k) {
+      const int b = (thread + k) % blocks;
+      while (split.take_chunk(b, g0, g1)) {
+        // A chunk lies inside its block and is at most kChunk grains.
+        EXPECT_GE(g0, split.bounds()[b]);
+        EXPECT_LE(g1, split.bounds()[b + 1]);
+        EXPECT_LT(g0, g1);
+        EXPECT_LE(g1 - g0, GrainSplit::kChunk);
+        for (std::uint32_t g = g0; g < g1; ++g) taken[g].fetch_add(1);
+      }
+    }
+  }
+  std::vector<int> counts(n);
+  for (std::size_t g = 0; g < n; ++g) counts[g] = taken[g].load();
+  return counts;
+}
+
+}  // namespace
+
+// The chunks of the grain loops (dem/grain_split.hpp): whatever thread takes which, every
+// grain is handed out exactly once per loop (exact: a grain done twice or never would change
+// the step's results), also when the threads race for the same blocks and when a loop runs
+// again after open_chunks().
+TEST(GrainSplit, ChunksHandOutEveryGrainOnce) {
+  const std::size_t n = 10007;  // not a multiple of the chunk
+  GrainSplit split;
+  for (int blocks : {1, 2, 3}) {
+    split.cut(n, blocks, {});
+    for (int threads : {1, 2, 4}) {
+      for (int round = 0; round < 2; ++round) {
+        const auto counts = take_all_chunks(split, n, threads);
+        for (std::size_t g = 0; g < n; ++g)
+          ASSERT_EQ(counts[g], 1) << "grain " << g << ", " << blocks << " blocks, " << threads
+                                  << " threads, round " << round;
+      }
+    }
+  }
+}
+
+// A block shared in chunks is timed by its own thread for the grains that thread did: the
+// estimate is its speed in grains per second. Block 0's thread did 600 grains in 1 s, block
+// 1's thread 400 of its 5,000 in 1 s (its partner took the rest): speeds 600 and 400, so the
+// shares move halfway from 0.5 towards 0.6 and 0.4 after kEvery steps (exact up to the
+// divisions' rounding: 1e-12).
+TEST(GrainSplit, ChunkedBlocksAreTimedByTheGrainsTheirThreadDid) {
+  GrainSplit split;
+  split.cut(10000, 2, {});
+  for (std::size_t s = 0; s < GrainSplit::kEvery; ++s) {
+    split.add_busy(0, 1.0, 600);
+    split.add_busy(1, 1.0, 400);
+    split.end_step();
+  }
+  EXPECT_NEAR(split.share(0), 0.55, 1e-12);
+  EXPECT_NEAR(split.share(1), 0.45, 1e-12);
+  EXPECT_FALSE(split.fits(10000, 2));  // a move of 5 % of the work asks for a new cut
+}

@@ -7,7 +7,8 @@
 // wall contacts, gather, kick, state scan), each reading the grains' arrays again and each
 // a meeting of the thread team. A grain's operations are those of the separate passes, in
 // the same order, and no grain's depend on another's: the same bits, for any number of
-// threads.
+// threads. And so either loop shares its grains among the threads in chunks
+// (dem/grain_split.hpp): whichever thread does a grain, the bits are the same.
 #include <omp.h>
 
 #include <algorithm>
@@ -18,6 +19,31 @@
 #include "sable/world/guards.hpp"
 
 namespace sable {
+
+namespace {
+
+// This thread's part of a grain loop shared in chunks (dem/grain_split.hpp): its own blocks
+// (timed, for the next cuts), then whatever chunks of the others' are left; body(g0, g1) does
+// grains [g0, g1). Call split.open_chunks() before the loop.
+template <class Body>
+[[gnu::always_inline]] inline void share_grains(GrainSplit& split, Body&& body) {
+  const int team = omp_get_num_threads(), thread = omp_get_thread_num();
+  const int blocks = split.blocks();
+  std::uint32_t g0 = 0, g1 = 0;
+  for (int b = thread; b < blocks; b += team) {
+    const double start = omp_get_wtime();
+    std::uint32_t done = 0;
+    while (split.take_chunk(b, g0, g1)) {
+      body(g0, g1);
+      done += g1 - g0;
+    }
+    if (team == blocks) split.add_busy(b, omp_get_wtime() - start, done);
+  }
+  for (int k = 1; k < blocks; ++k)
+    while (split.take_chunk((thread + k) % blocks, g0, g1)) body(g0, g1);
+}
+
+}  // namespace
 
 // What the grain loops read and write, as raw pointers and plain copies taken once per loop
 // (reached through w_, every vector store would make the compiler fetch each array's address
@@ -152,7 +178,7 @@ typename DemSolver<D>::Moved DemSolver<D>::kick_drift(double h_kick, double h_dr
   const bool turning = w_.track_orientation;
   GrainSplit& split = loop_split(drift_split_);
   const int blocks = split.blocks();
-  const std::uint32_t* const bound = split.bounds();
+  split.open_chunks();
   double outer2 = 0.0, near2 = 0.0;  // maxima: exact whatever the order
   // (clang-format breaks the reduction clause apart)
   // clang-format off
@@ -160,20 +186,22 @@ typename DemSolver<D>::Moved DemSolver<D>::kick_drift(double h_kick, double h_dr
     if (blocks > 1)
   // clang-format on
   {
-    const int team = omp_get_num_threads();
-    for (int b = omp_get_thread_num(); b < blocks; b += team) {
-      const double start = omp_get_wtime();
-      const std::size_t g0 = bound[b], g1 = bound[b + 1];
+    share_grains(split, [&](std::size_t g0, std::size_t g1) {
+      // Copies local to the chunk, whose address is not taken: the compiler keeps them in
+      // registers (reached through the lambda's references, every store to x could alias them).
+      const GrainPass c = pass;
+      double o2 = 0.0, n2 = 0.0;
       for (std::size_t k = g0; k < g1; ++k) {
-        if (pass.kick(k, h_kick)) {
-          pass.x[k] += h_drift * pass.v[k];
-          if (turning) pass.q[k] = S::rotate(pass.q[k], pass.w[k], h_drift);
+        if (c.kick(k, h_kick)) {
+          c.x[k] += h_drift * c.v[k];
+          if (turning) c.q[k] = S::rotate(c.q[k], c.w[k], h_drift);
         }
-        if (outer) outer2 = std::max(outer2, (pass.x[k] - outer[k]).squaredNorm());
-        if (inner) near2 = std::max(near2, (pass.x[k] - inner[k]).squaredNorm());
+        if (outer) o2 = std::max(o2, (c.x[k] - outer[k]).squaredNorm());
+        if (inner) n2 = std::max(n2, (c.x[k] - inner[k]).squaredNorm());
       }
-      if (team == blocks) split.add_busy(b, omp_get_wtime() - start);
-    }
+      outer2 = std::max(outer2, o2);
+      near2 = std::max(near2, n2);
+    });
   }
   return {outer ? outer2 : -1.0, near2};
 }
@@ -188,28 +216,27 @@ bool DemSolver<D>::finish(bool all, double h_kick) {
   GrainPass pass = grain_pass(all, h_kick);
   GrainSplit& split = loop_split(finish_split_);
   const int blocks = split.blocks();
-  const std::uint32_t* const bound = split.bounds();
+  split.open_chunks();
   double max_ratio = 0.0;
   std::size_t touching = 0;
   int bad = 0;
 #pragma omp parallel num_threads(blocks) firstprivate(pass) reduction(max : max_ratio) \
     reduction(+ : touching) reduction(| : bad) if (blocks > 1)
   {
-    const int team = omp_get_num_threads();
     const double h = h_kick;  // in a register: the loop calls wall_contact()
     const bool kick = h > 0.0;
-    for (int b = omp_get_thread_num(); b < blocks; b += team) {
-      const double start = omp_get_wtime();
-      const std::size_t g0 = bound[b], g1 = bound[b + 1];
+    share_grains(split, [&](std::size_t g0, std::size_t g1) {
+      const GrainPass c = pass;  // local to the chunk: in registers (see kick_drift)
+      int unsound = 0;
       for (std::size_t i = g0; i < g1; ++i) {
-        for (std::uint32_t k = pass.wall_begin[i]; k < pass.wall_begin[i + 1]; ++k)
+        for (std::uint32_t k = c.wall_begin[i]; k < c.wall_begin[i + 1]; ++k)
           wall_contact<Normal>(k, max_ratio, touching);
-        pass.sum(i);
-        if (kick) pass.kick(i, h);
-        bad |= pass.sound(i) ? 0 : 1;
+        c.sum(i);
+        if (kick) c.kick(i, h);
+        unsound |= c.sound(i) ? 0 : 1;
       }
-      if (team == blocks) split.add_busy(b, omp_get_wtime() - start);
-    }
+      bad |= unsound;
+    });
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
   diag_.touching += touching;

@@ -13,6 +13,7 @@ void GrainSplit::reset(int blocks) {
   work_.assign(nb, 0.0);
   estimate_.assign(nb * kEvery, 0.0);
   busy_.assign(nb, Busy{});
+  next_grain_ = std::vector<NextGrain>(nb);  // atomics: made, not copied
   steps_ = 0;
   fixed_ = false;
 }
@@ -58,15 +59,17 @@ void GrainSplit::end_step() {
   if (nb < 2 || work_.size() != nb) return;
   // The step's estimate: were block b's work done at the speed it had in this step (work over
   // seconds), the shares that equalise the times are proportional to those speeds. A block
-  // not timed (a loop run on one thread) makes no estimate.
+  // shared in chunks counts the grains its own thread did (the loops cut by grain count). A
+  // block not timed (a loop run on one thread) makes no estimate.
   double total = 0.0;
   bool timed = true;
   double* const row = estimate_.data() + steps_ * nb;
   for (std::size_t b = 0; b < nb; ++b) {
-    timed = timed && busy_[b].seconds > 0.0 && work_[b] > 0.0;
-    row[b] = timed ? work_[b] / busy_[b].seconds : 0.0;
+    const double work = busy_[b].partial ? double(busy_[b].grains) : work_[b];
+    timed = timed && busy_[b].seconds > 0.0 && work > 0.0;
+    row[b] = timed ? work / busy_[b].seconds : 0.0;
     total += row[b];
-    busy_[b].seconds = 0.0;
+    busy_[b] = Busy{};
   }
   if (!timed || fixed_) return;
   for (std::size_t b = 0; b < nb; ++b) row[b] /= total;

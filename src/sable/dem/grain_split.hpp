@@ -19,9 +19,21 @@
 // it falls in (the pair pass adds each grain's terms in list order whatever the cut, see
 // dem_solver.cpp), so the cut, and the timing behind it, changes the speed only: the same bits
 // for any cut, which tests check with deliberately lopsided shares.
+//
+// Why chunks as well: the cut balances the threads on average, not step by step. On the
+// project's VM each thread's time for the same block wanders by a few % from one step to the
+// next (a host's other work, a stolen tick), and every loop ends with the threads meeting:
+// each step waits for whichever was slower that time, 6-8 % of a two-thread step in all
+// (docs/BENCHMARKS.md, twentieth session). In the loops whose grains are independent (the
+// opening and closing grain loops: no grain's operations read what another's write) a
+// thread takes its own block in chunks, and then the chunks its partners have not reached
+// yet. Which thread does a grain changes the speed only, never the bits. The pair pass cannot
+// share this way (its threads add to their own grains as they go, see dem_solver.cpp).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -46,8 +58,36 @@ class GrainSplit {
   // n + 1 offsets, else g (no list for these grains yet).
   void cut(std::size_t n, int blocks, std::span<const std::uint32_t> begin);
 
-  // Seconds that block b's work took in one loop, added by the thread that did it.
+  // Seconds that block b's work took in one loop, added by the thread that did it; `grains`:
+  // how many of the block's grains it did in that time, when others took some (chunks).
   void add_busy(int b, double seconds) { busy_[static_cast<std::size_t>(b)].seconds += seconds; }
+  void add_busy(int b, double seconds, std::uint32_t grains) {
+    Busy& busy = busy_[static_cast<std::size_t>(b)];
+    busy.seconds += seconds;
+    busy.grains += grains;
+    busy.partial = true;
+  }
+
+  // Chunks (see the header comment). open_chunks() before the loop, on one thread; then each
+  // thread calls take_chunk() on its own blocks until they are done, then on the others'.
+  // A chunk is [g0, g1); false once block b has none left.
+  static constexpr std::uint32_t kChunk = 256;  // grains: a few us of work, one atomic add
+  void open_chunks() {
+    for (std::size_t b = 0; b + 1 < bound_.size(); ++b)
+      next_grain_[b].g.store(bound_[b], std::memory_order_relaxed);
+  }
+  bool take_chunk(int b, std::uint32_t& g0, std::uint32_t& g1) {
+    const auto k = static_cast<std::size_t>(b);
+    const std::uint64_t end = bound_[k + 1];
+    std::atomic<std::uint64_t>& next = next_grain_[k].g;
+    // Relaxed: the chunks' grains are independent; the loop's closing barrier orders the rest.
+    if (next.load(std::memory_order_relaxed) >= end) return false;  // no write once done
+    const std::uint64_t start = next.fetch_add(kChunk, std::memory_order_relaxed);
+    if (start >= end) return false;
+    g0 = static_cast<std::uint32_t>(start);
+    g1 = static_cast<std::uint32_t>(std::min(start + kChunk, end));
+    return true;
+  }
   // At the end of each step: the step's times become an estimate of the shares; every kEvery
   // steps the shares move towards the estimates, and fits() turns false once a cut would move
   // by more than kMinShift of the work since the last cut.
@@ -72,8 +112,14 @@ class GrainSplit {
   std::vector<double> estimate_;   // kEvery rows of `blocks` estimated shares
   struct alignas(64) Busy {        // one cache line per block: its thread alone writes it
     double seconds = 0.0;
+    std::uint32_t grains = 0;  // grains done in those seconds, when `partial`
+    bool partial = false;      // else: the whole block
   };
   std::vector<Busy> busy_;
+  struct alignas(64) NextGrain {  // per block, its own cache line: the next chunk's start
+    std::atomic<std::uint64_t> g{0};
+  };
+  std::vector<NextGrain> next_grain_;
   std::size_t steps_ = 0;  // rows of estimate_ filled
   bool fixed_ = false, recut_ = false;
 };
