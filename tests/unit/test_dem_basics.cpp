@@ -171,7 +171,8 @@ TEST(DemBasics, ThreadCountDoesNotChangeABit) {
 // of grains gathered from another block): the same state hash as one thread, exactly. Also
 // in the dilute bed, where the grain loops are cut by grain count alone. The grain loops
 // also share their grains in chunks (a thread done with its block takes what is left of the
-// others'): with a block of 10 %, its thread does much of the other block too.
+// others'): with a block of 10 %, its thread does much of the other block too; so does the
+// pair pass with each block's tail (the last 5 % of its work, whose grains are gathered).
 TEST(DemBasics, LopsidedThreadSharesDoNotChangeABit) {
   const std::vector<std::vector<double>> lopsided{{0.1, 0.9}, {0.85, 0.15}, {0.6, 0.1, 0.3}};
   for (double spacing : {1.96, 2.5}) {

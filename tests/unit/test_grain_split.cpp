@@ -147,8 +147,10 @@ TEST(GrainSplit, FixedSharesIgnoreTheTimes) {
 namespace {
 
 // Takes every chunk of `split` on `threads` threads, each its own block first and then the
-// others' (as the grain loops do); counts how often each grain was handed out.
-std::vector<int> take_all_chunks(GrainSplit& split, std::size_t n, int threads) {
+// others' (as the grain loops and the pair pass do); counts how often each grain was handed
+// out. `chunk`: the most grains a chunk may hold.
+std::vector<int> take_all_chunks(GrainSplit& split, std::size_t n, int threads,
+                                 std::uint32_t chunk = GrainSplit::kChunk) {
   std::vector<std::atomic<int>> taken(n);
   split.open_chunks();
 #pragma omp parallel num_threads(threads)
@@ -158,11 +160,11 @@ std::vector<int> take_all_chunks(GrainSplit& split, std::size_t n, int threads) 
     for (int k = 0; k < blocks; ++k) {
       const int b = (thread + k) % blocks;
       while (split.take_chunk(b, g0, g1)) {
-        // A chunk lies inside its block and is at most kChunk grains.
-        EXPECT_GE(g0, split.bounds()[b]);
+        // A chunk lies inside its block's tail and is at most `chunk` grains.
+        EXPECT_GE(g0, split.tail(b));
         EXPECT_LE(g1, split.bounds()[b + 1]);
         EXPECT_LT(g0, g1);
-        EXPECT_LE(g1 - g0, GrainSplit::kChunk);
+        EXPECT_LE(g1 - g0, chunk);
         for (std::uint32_t g = g0; g < g1; ++g) taken[g].fetch_add(1);
       }
     }
@@ -190,6 +192,40 @@ TEST(GrainSplit, ChunksHandOutEveryGrainOnce) {
           ASSERT_EQ(counts[g], 1) << "grain " << g << ", " << blocks << " blocks, " << threads
                                   << " threads, round " << round;
       }
+    }
+  }
+}
+
+// Shared tails (the pair pass's, share_tail()): block b's tail starts at the first grain
+// whose work to the block's end is at most the fraction of the block's work (exact: the
+// binary search's definition); the chunks hand out every tail grain exactly once and no
+// other grain (those are the block's own thread's, in order), in chunks of at most the
+// chosen size. One block has no tail: its thread does it all.
+TEST(GrainSplit, TailsHoldTheirShareOfTheWorkAndNothingElseIsShared) {
+  const std::size_t n = 10007;
+  const auto begin = uneven_offsets(n);
+  GrainSplit split;
+  split.share_tail(0.15, 64);
+  EXPECT_FALSE(split.fits(n, 2));  // a new tail asks for a new cut
+  for (int blocks : {1, 2, 3}) {
+    split.cut(n, blocks, begin);
+    if (blocks == 1) {
+      EXPECT_EQ(split.tail(0), n);
+    }
+    for (int b = 0; blocks > 1 && b < blocks; ++b) {
+      const std::uint32_t g0 = split.bounds()[b], g1 = split.bounds()[b + 1], z = split.tail(b);
+      ASSERT_GT(z, g0);
+      ASSERT_LT(z, g1);
+      const double work = work_before(begin, g1) - work_before(begin, g0);
+      EXPECT_LE(work_before(begin, g1) - work_before(begin, z), 0.15 * work + 1e-9);
+      EXPECT_GT(work_before(begin, g1) - work_before(begin, z - 1), 0.15 * work - 1e-9);
+    }
+    for (int threads : {1, 2, 4}) {
+      const auto counts = take_all_chunks(split, n, threads, 64);
+      for (int b = 0; b < blocks; ++b)
+        for (std::uint32_t g = split.bounds()[b]; g < split.bounds()[b + 1]; ++g)
+          ASSERT_EQ(counts[g], g >= split.tail(b) ? 1 : 0)
+              << "grain " << g << ", " << blocks << " blocks, " << threads << " threads";
     }
   }
 }

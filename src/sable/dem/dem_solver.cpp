@@ -331,6 +331,19 @@ struct DemSolver<D>::PairPass {
     }
   }
 
+  // The entries whose first member is one of grains [g0, g1) (begin: first_begin), summed as
+  // `How` says: in SIMD lanes for the Hertz law in 3D without rolling resistance, else one
+  // by one. The same bits either way.
+  template <class Normal, Sum How, bool Roll>
+  [[gnu::always_inline]] void grains(const std::uint32_t* near, const std::uint32_t* begin,
+                                     std::uint32_t g0, std::uint32_t g1, double& max_ratio,
+                                     std::size_t& touching) const {
+    if constexpr (D == 3 && std::is_same_v<Normal, HertzNormal> && !Roll)
+      entries_in_lanes<How>(near, begin[g0], begin[g1], max_ratio, touching);
+    else
+      entries<Normal, How, Roll>(near, begin[g0], begin[g1], max_ratio, touching);
+  }
+
   // Lane l of `lanes` from touching entry k (grains a, b; d = x_a - x_b).
   [[gnu::always_inline]] void fill(ContactLanes& lanes, int l, std::size_t k, std::uint32_t a,
                                    std::uint32_t b, const Vec& d, double dist2, double rsum) const
@@ -402,7 +415,10 @@ typename DemSolver<D>::PairPass DemSolver<D>::pair_pass() {
 // by update_split(); none on one thread, a few % on two) are left to the gather. Gathering
 // every grain's sum afterwards cost 15 % of the step (perf, docs/BENCHMARKS.md). The blocks
 // and flags change only between passes (update_split(): after a near-list remake, or when
-// the threads' speeds move the cut), so the threads never wait for each other inside the pass.
+// the threads' speeds move the cut). The last kPairTail of each block's work (its tail) is
+// shared in chunks (dem/grain_split.hpp): a thread done with its own block takes what is
+// left of its partner's tail, so neither waits for the other's hiccups. The tail's entries
+// only store their forces, whichever thread does them, and its grains are gathered.
 template <int D>
 template <class Normal, bool Roll>
 void DemSolver<D>::pair_forces() {
@@ -410,37 +426,42 @@ void DemSolver<D>::pair_forces() {
   // few contacts is still worth the threads, and clearing them all on one thread would leave
   // the other threads' grains in its cache for the next kick.
   update_split();
-  const int blocks = pair_split_.blocks();
+  GrainSplit& split = pair_split_;
+  const int blocks = split.blocks();
+  split.open_chunks();
   PairPass pass = pair_pass();
   const std::uint32_t* const near = near_.index.data();
-  const std::uint32_t* const first_begin = near_.first_begin.data();
-  const std::uint32_t* const block = pair_split_.bounds();
+  const std::uint32_t* const begin = near_.first_begin.data();
+  const std::uint32_t* const block = split.bounds();
   double max_ratio = 0.0;
   std::size_t touching = 0;
 #pragma omp parallel num_threads(blocks) firstprivate(pass) reduction(max : max_ratio) \
     reduction(+ : touching) if (blocks > 1)
   {
     // A block per thread; with fewer threads than blocks, some take two: the same bits.
-    const int team = omp_get_num_threads();
-    for (int t = omp_get_thread_num(); t < blocks; t += team) {
+    const int team = omp_get_num_threads(), thread = omp_get_thread_num();
+    std::uint32_t c0 = 0, c1 = 0;
+    for (int t = thread; t < blocks; t += team) {
       const double start = omp_get_wtime();
-      const std::uint32_t g0 = block[t], g1 = block[t + 1];
-      pass.own(g0, g1);
-      const std::uint32_t m0 = first_begin[g0], m1 = first_begin[g1];
+      const std::uint32_t g0 = block[t], tail = split.tail(t);
+      pass.own(g0, block[t + 1]);
       // One block: no grain is gathered, and the flags need not be read.
-      if constexpr (D == 3 && std::is_same_v<Normal, HertzNormal> && !Roll) {
-        if (blocks == 1)
-          pass.template entries_in_lanes<Sum::kScatter>(near, m0, m1, max_ratio, touching);
-        else
-          pass.template entries_in_lanes<Sum::kScatterChecked>(near, m0, m1, max_ratio, touching);
-      } else if (blocks == 1) {
-        pass.template entries<Normal, Sum::kScatter, Roll>(near, m0, m1, max_ratio, touching);
-      } else {
-        pass.template entries<Normal, Sum::kScatterChecked, Roll>(near, m0, m1, max_ratio,
-                                                                  touching);
+      if (blocks == 1)
+        pass.template grains<Normal, Sum::kScatter, Roll>(near, begin, g0, tail, max_ratio,
+                                                          touching);
+      else
+        pass.template grains<Normal, Sum::kScatterChecked, Roll>(near, begin, g0, tail, max_ratio,
+                                                                 touching);
+      double work = double(begin[tail] - begin[g0]) + double(tail - g0);  // the cut's units
+      while (split.take_chunk(t, c0, c1)) {
+        pass.template grains<Normal, Sum::kGather, Roll>(near, begin, c0, c1, max_ratio, touching);
+        work += double(begin[c1] - begin[c0]) + double(c1 - c0);
       }
-      if (team == blocks) pair_split_.add_busy(t, omp_get_wtime() - start);
+      if (team == blocks) split.add_busy(t, omp_get_wtime() - start, work);
     }
+    for (int k = 1; k < blocks; ++k)
+      while (split.take_chunk((thread + k) % blocks, c0, c1))
+        pass.template grains<Normal, Sum::kGather, Roll>(near, begin, c0, c1, max_ratio, touching);
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
   diag_.touching += touching;
@@ -454,8 +475,9 @@ void DemSolver<D>::pair_forces() {
 // threads took longer than one (docs/BENCHMARKS.md, thirteenth session). Then the flags: a
 // grain is gathered when it is the second member of an entry whose first member is in an
 // earlier block (its first such entry has the smallest first member): that block's thread
-// would add to it, in a race and out of order. (Grains the near list does not hold are cut
-// by count, and the cut is made again once it holds them; the pass always finds them held.)
+// would add to it, in a race and out of order; and every grain of a block's shared tail,
+// whose entries any thread may do. (Grains the near list does not hold are cut by count,
+// and the cut is made again once it holds them; the pass always finds them held.)
 template <int D>
 void DemSolver<D>::update_split() {
   const std::size_t n = w_.particles.size();
@@ -472,9 +494,12 @@ void DemSolver<D>::update_split() {
   const auto& sb = near_.second_begin;
   const auto& first = w_.neighbors.pairs.i;
   const std::uint32_t* const bound = pair_split_.bounds();
-  for (int t = 1; t < blocks; ++t)
-    for (std::uint32_t g = bound[t]; g < bound[t + 1]; ++g)
+  for (int t = 0; t < blocks; ++t) {
+    const std::uint32_t tail = pair_split_.tail(t);
+    for (std::uint32_t g = bound[t]; g < tail; ++g)
       gathered_[g] = sb[g] < sb[g + 1] && first[near_.second_pairs[sb[g]]] < bound[t];
+    for (std::uint32_t g = tail; g < bound[t + 1]; ++g) gathered_[g] = 1;  // shared tail
+  }
   split_remake_ = near_.remakes;
 }
 

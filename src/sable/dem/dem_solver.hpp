@@ -31,7 +31,7 @@ inline void forget_if_ended(Vec* shear, Vec* force, Rot* moment, double* delta, 
 template <int D>
 class DemSolver final : public Solver {
  public:
-  explicit DemSolver(World<D>& world) : w_(world) {}
+  explicit DemSolver(World<D>& world) : w_(world) { pair_split_.share_tail(kPairTail, kPairChunk); }
   std::string_view name() const override { return "dem"; }
   void initialize() override;
   void step() override;
@@ -58,6 +58,12 @@ class DemSolver final : public Solver {
   // Below this many grains or contacts a loop runs on one thread: waking a thread team costs
   // more than the work. The result is the same bits either way.
   static constexpr std::ptrdiff_t kMinParallelItems = 2048;
+  // The pair pass shares the last kPairTail of each block's work in chunks of kPairChunk
+  // grains (a few us each) (see pair_forces): enough to absorb the few-% step-to-step
+  // wander of a thread's speed, little enough that gathering its grains costs less than
+  // the waiting it saves (docs/BENCHMARKS.md, twenty-first session).
+  static constexpr double kPairTail = 0.05;
+  static constexpr std::uint32_t kPairChunk = 64;
 
   // The grains' largest squared displacements since the neighbour list's and the near list's
   // reference positions, measured in the drift loop (outer2 < 0: the neighbour list has no

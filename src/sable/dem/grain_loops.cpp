@@ -32,12 +32,14 @@ template <class Body>
   std::uint32_t g0 = 0, g1 = 0;
   for (int b = thread; b < blocks; b += team) {
     const double start = omp_get_wtime();
-    std::uint32_t done = 0;
+    const std::uint32_t own = split.bounds()[b], tail = split.tail(b);
+    if (own < tail) body(own, tail);
+    std::uint32_t done = tail - own;
     while (split.take_chunk(b, g0, g1)) {
       body(g0, g1);
       done += g1 - g0;
     }
-    if (team == blocks) split.add_busy(b, omp_get_wtime() - start, done);
+    if (team == blocks) split.add_busy(b, omp_get_wtime() - start, double(done));
   }
   for (int k = 1; k < blocks; ++k)
     while (split.take_chunk((thread + k) % blocks, g0, g1)) body(g0, g1);

@@ -50,6 +50,29 @@ void GrainSplit::cut(std::size_t n, int blocks, std::span<const std::uint32_t> b
   }
   for (std::size_t b = 0; b < nb; ++b)
     work_[b] = work_before(bound_[b + 1]) - work_before(bound_[b]);
+  // Each block's tail: from the first grain whose work to the block's end is at most the
+  // tail's fraction of the block's work.
+  tail_.assign(nb, 0);
+  for (std::size_t b = 0; b < nb; ++b) {
+    if (tail_fraction_ >= 1.0) {
+      tail_[b] = bound_[b];
+      continue;
+    }
+    if (nb == 1) {
+      tail_[b] = bound_[b + 1];
+      continue;
+    }
+    const double from = work_before(bound_[b + 1]) - tail_fraction_ * work_[b];
+    std::size_t lo = bound_[b], hi = bound_[b + 1];  // work_before(hi) >= from
+    while (lo < hi) {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if (work_before(mid) >= from)
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    tail_[b] = static_cast<std::uint32_t>(lo);
+  }
   cut_share_ = share_;  // same size: no allocation
   recut_ = false;
 }
@@ -59,13 +82,13 @@ void GrainSplit::end_step() {
   if (nb < 2 || work_.size() != nb) return;
   // The step's estimate: were block b's work done at the speed it had in this step (work over
   // seconds), the shares that equalise the times are proportional to those speeds. A block
-  // shared in chunks counts the grains its own thread did (the loops cut by grain count). A
-  // block not timed (a loop run on one thread) makes no estimate.
+  // shared in chunks counts the work its own thread did. A block not timed (a loop run on one
+  // thread) makes no estimate.
   double total = 0.0;
   bool timed = true;
   double* const row = estimate_.data() + steps_ * nb;
   for (std::size_t b = 0; b < nb; ++b) {
-    const double work = busy_[b].partial ? double(busy_[b].grains) : work_[b];
+    const double work = busy_[b].partial ? busy_[b].work : work_[b];
     timed = timed && busy_[b].seconds > 0.0 && work > 0.0;
     row[b] = timed ? work / busy_[b].seconds : 0.0;
     total += row[b];

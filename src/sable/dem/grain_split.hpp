@@ -27,8 +27,10 @@
 // (docs/BENCHMARKS.md, twentieth session). In the loops whose grains are independent (the
 // opening and closing grain loops: no grain's operations read what another's write) a
 // thread takes its own block in chunks, and then the chunks its partners have not reached
-// yet. Which thread does a grain changes the speed only, never the bits. The pair pass cannot
-// share this way (its threads add to their own grains as they go, see dem_solver.cpp).
+// yet. Which thread does a grain changes the speed only, never the bits. The pair pass shares
+// only the tail of each block (share_tail()): its threads add forces to their own grains as
+// they go, in list order, which a chunk done by another thread cannot; the tail's entries
+// only store their forces, and the closing loop adds them (see dem_solver.cpp).
 #pragma once
 
 #include <algorithm>
@@ -45,9 +47,21 @@ class GrainSplit {
  public:
   static constexpr std::size_t kEvery = 32;  // steps per look at the threads' times
 
-  // Block b holds grains [bounds()[b], bounds()[b + 1]).
+  // Block b holds grains [bounds()[b], bounds()[b + 1]); its grains from tail(b) on are
+  // shared in chunks, the others are its own thread's.
   int blocks() const { return bound_.empty() ? 0 : static_cast<int>(bound_.size()) - 1; }
   const std::uint32_t* bounds() const { return bound_.data(); }
+  std::uint32_t tail(int b) const { return tail_[static_cast<std::size_t>(b)]; }
+
+  // From the next cut on: share only the last `fraction` (0, 1] of each block's work, in
+  // chunks of `chunk` grains (the default: whole blocks, kChunk). With one block nothing is
+  // shared when fraction < 1: its thread does it all, and a tail would only cost its
+  // caller's extra work (the pair pass's gather).
+  void share_tail(double fraction, std::uint32_t chunk) {
+    tail_fraction_ = fraction;
+    chunk_ = chunk;
+    recut_ = true;
+  }
   // Made for n grains in `blocks` blocks, and not asking to be made again.
   bool fits(std::size_t n, int blocks) const {
     return !recut_ && this->blocks() == blocks && bound_.back() == n;
@@ -58,23 +72,25 @@ class GrainSplit {
   // n + 1 offsets, else g (no list for these grains yet).
   void cut(std::size_t n, int blocks, std::span<const std::uint32_t> begin);
 
-  // Seconds that block b's work took in one loop, added by the thread that did it; `grains`:
-  // how many of the block's grains it did in that time, when others took some (chunks).
+  // Seconds that block b's work took in one loop, added by the thread that did it; `work`:
+  // how much of the block's work (in the cut's units, see cut()) it did in that time, when
+  // others took some (chunks).
   void add_busy(int b, double seconds) { busy_[static_cast<std::size_t>(b)].seconds += seconds; }
-  void add_busy(int b, double seconds, std::uint32_t grains) {
+  void add_busy(int b, double seconds, double work) {
     Busy& busy = busy_[static_cast<std::size_t>(b)];
     busy.seconds += seconds;
-    busy.grains += grains;
+    busy.work += work;
     busy.partial = true;
   }
 
   // Chunks (see the header comment). open_chunks() before the loop, on one thread; then each
-  // thread calls take_chunk() on its own blocks until they are done, then on the others'.
-  // A chunk is [g0, g1); false once block b has none left.
+  // thread does its own blocks' grains before the tail, takes their tails' chunks with
+  // take_chunk() until they are done, then the others'. A chunk is [g0, g1); false once
+  // block b has none left.
   static constexpr std::uint32_t kChunk = 256;  // grains: a few us of work, one atomic add
   void open_chunks() {
-    for (std::size_t b = 0; b + 1 < bound_.size(); ++b)
-      next_grain_[b].g.store(bound_[b], std::memory_order_relaxed);
+    for (std::size_t b = 0; b < tail_.size(); ++b)
+      next_grain_[b].g.store(tail_[b], std::memory_order_relaxed);
   }
   bool take_chunk(int b, std::uint32_t& g0, std::uint32_t& g1) {
     const auto k = static_cast<std::size_t>(b);
@@ -82,10 +98,10 @@ class GrainSplit {
     std::atomic<std::uint64_t>& next = next_grain_[k].g;
     // Relaxed: the chunks' grains are independent; the loop's closing barrier orders the rest.
     if (next.load(std::memory_order_relaxed) >= end) return false;  // no write once done
-    const std::uint64_t start = next.fetch_add(kChunk, std::memory_order_relaxed);
+    const std::uint64_t start = next.fetch_add(chunk_, std::memory_order_relaxed);
     if (start >= end) return false;
     g0 = static_cast<std::uint32_t>(start);
-    g1 = static_cast<std::uint32_t>(std::min(start + kChunk, end));
+    g1 = static_cast<std::uint32_t>(std::min(start + chunk_, end));
     return true;
   }
   // At the end of each step: the step's times become an estimate of the shares; every kEvery
@@ -105,6 +121,9 @@ class GrainSplit {
   void move_shares();
 
   std::vector<std::uint32_t> bound_;
+  std::vector<std::uint32_t> tail_;  // per block: its first shared grain
+  double tail_fraction_ = 1.0;
+  std::uint32_t chunk_ = kChunk;
   std::vector<double> share_;      // per block, summing to 1
   std::vector<double> next_;       // scratch of move_shares()
   std::vector<double> cut_share_;  // the shares of the last cut
@@ -112,8 +131,8 @@ class GrainSplit {
   std::vector<double> estimate_;   // kEvery rows of `blocks` estimated shares
   struct alignas(64) Busy {        // one cache line per block: its thread alone writes it
     double seconds = 0.0;
-    std::uint32_t grains = 0;  // grains done in those seconds, when `partial`
-    bool partial = false;      // else: the whole block
+    double work = 0.0;     // work done in those seconds, when `partial`
+    bool partial = false;  // else: the whole block
   };
   std::vector<Busy> busy_;
   struct alignas(64) NextGrain {  // per block, its own cache line: the next chunk's start
