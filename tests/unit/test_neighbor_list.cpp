@@ -5,6 +5,7 @@
 // (|xi - xj|^2 < (ri + rj + skin)^2, distance - r < skin), and random positions never sit on
 // the boundary to the last bit.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -111,13 +112,21 @@ void check_pair_set(double rmin, double rmax, double skin) {
     if (i >= 500) ++outside;
   ASSERT_GT(outside, 10u);  // and pairs among the grains outside the domain box
 
-  // The domain box as the scenario gives it, and a much smaller one (most grains outside).
-  for (double hi : {1.0, 0.3}) {
-    SCOPED_TRACE(hi);
+  // The domain box as the scenario gives it, a much smaller one (most grains outside), and
+  // boxes one cell thick along an axis (the search reads each row of cells along axis 0 as
+  // one run: a row of one cell, and a single row of rows, must still be whole).
+  std::vector<Vec<D>> highs = {Vec<D>::Constant(1.0), Vec<D>::Constant(0.3)};
+  for (int d = 0; d < D; ++d) {
+    Vec<D> thin = Vec<D>::Constant(1.0);
+    thin[d] = 1e-3;
+    highs.push_back(thin);
+  }
+  for (const Vec<D>& hi : highs) {
+    SCOPED_TRACE(hi.transpose());
     sable::NeighborList<D> nl;
     nl.skin = skin;
     nl.domain_lo = Vec<D>::Zero();
-    nl.domain_hi = Vec<D>::Constant(hi);
+    nl.domain_hi = hi;
     nl.build(p, {});
     EXPECT_EQ(list_pairs(nl.pairs), expected);  // brute force is generated in (i, j) order
     EXPECT_TRUE(std::is_sorted(nl.pairs.i.begin(), nl.pairs.i.end()));
@@ -135,6 +144,65 @@ TEST(NeighborList, PairSetMatchesBruteForce3D) {
 // Guards the same in 2D (disks). Exact: same test as the list's.
 TEST(NeighborList, PairSetMatchesBruteForce2D) {
   check_pair_set<2>(0.004, 0.015, 0.004);
+}
+
+// Guards the parallel search (blocks of grains per thread, joined in order; it runs from
+// 4096 grains): on one, two and three threads, exactly the brute-force pairs, sorted. Exact:
+// same test as the list's.
+template <int D>
+void check_parallel_pair_set(double r) {
+  sable::Rng rng(23);
+  sable::ParticleStore<D> p;
+  sable::test::add_random_grains(p, rng, 6000, 0.5 * r, r);
+  const auto expected = brute_pairs(p, r);
+  ASSERT_GT(expected.size(), 6000u);  // a dense enough set: every grain has partners
+  const int threads = omp_get_max_threads();
+  for (int t : {1, 2, 3}) {
+    SCOPED_TRACE(t);
+    omp_set_num_threads(t);
+    sable::NeighborList<D> nl;
+    nl.skin = r;
+    nl.domain_lo = Vec<D>::Zero();
+    nl.domain_hi = Vec<D>::Constant(1.0);
+    nl.build(p, {});
+    EXPECT_EQ(list_pairs(nl.pairs), expected);
+  }
+  omp_set_num_threads(threads);
+}
+
+TEST(NeighborList, ParallelPairSetMatchesBruteForce3D) {
+  check_parallel_pair_set<3>(0.025);
+}
+
+TEST(NeighborList, ParallelPairSetMatchesBruteForce2D) {
+  check_parallel_pair_set<2>(0.006);
+}
+
+// Guards the lists' memory across rebuilds (core/grow.hpp): a list that grows by a few %
+// per rebuild (a settling bed) is refilled in the memory it had, not given new memory (whose
+// pages the kernel hands in one fault at a time) at every rebuild. The pair list and its
+// spare are swapped at each build, so the arrays two builds apart are compared. Exact:
+// which memory an array holds.
+TEST(NeighborList, GrowingListKeepsItsMemory) {
+  sable::Rng rng(5);
+  sable::ParticleStore<3> p;
+  sable::test::add_random_grains(p, rng, 2000, 0.01, 0.02);
+  sable::NeighborList<3> nl;
+  nl.skin = 0.01;
+  nl.domain_lo = Vec<3>::Zero();
+  nl.domain_hi = Vec<3>::Constant(1.0);
+  nl.build(p, {});
+  nl.build(p, {});
+  const std::size_t n0 = nl.pairs.size();
+  const Vec<3>* shear = nl.pairs.shear.data();
+  const std::uint32_t* first = nl.pairs.i.data();
+  for (auto& x : p.x) x *= 0.985;  // grains closer: more pairs
+  nl.build(p, {});
+  nl.build(p, {});
+  ASSERT_GT(nl.pairs.size(), n0);           // the list grew...
+  ASSERT_LT(nl.pairs.size(), n0 + n0 / 4);  // ...by less than the headroom
+  EXPECT_EQ(nl.pairs.shear.data(), shear);
+  EXPECT_EQ(nl.pairs.i.data(), first);
 }
 
 // Guards the wall candidates: exactly the brute-force (grain, wall) pairs with

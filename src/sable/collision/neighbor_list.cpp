@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sable/core/grow.hpp"
+
 namespace sable {
 
 template <int D>
@@ -78,7 +80,10 @@ void NeighborList<D>::build_cells(const ParticleStore<D>& p) {
     cell_items_[scratch_[cell_of_[k]]++] = static_cast<std::uint32_t>(k);
 }
 
-// The partners j > i of grain i within reach, ascending, appended to `out`.
+// The partners j > i of grain i within reach, ascending, appended to `out`. The 3^D cells
+// around grain i's come as 3^(D-1) rows along axis 0, the fastest-varying in the cell index:
+// a row's cells are consecutive there, so its grains are one run of cell_items_, read without
+// a division per cell (the same candidates in the same order as cell by cell).
 template <int D>
 void NeighborList<D>::partners_of(const ParticleStore<D>& p, std::size_t i,
                                   std::vector<std::uint32_t>& out) const {
@@ -89,25 +94,28 @@ void NeighborList<D>::partners_of(const ParticleStore<D>& p, std::size_t i,
     ci[d] = static_cast<int>(c % static_cast<std::size_t>(ncell_[d]));
     c /= static_cast<std::size_t>(ncell_[d]);
   }
-  const int nstencil = D == 3 ? 27 : 9;
-  for (int s = 0; s < nstencil; ++s) {
-    std::size_t cell = 0;
-    bool inside = true;
-    int code = s;
-    for (int d = D - 1; d >= 0; --d) {
-      const int pow3 = d == 2 ? 9 : (d == 1 ? 3 : 1);
-      const int nb = ci[d] + (code / pow3) - 1;
-      code %= pow3;
-      if (nb < 0 || nb >= ncell_[d]) inside = false;
-      cell = cell * static_cast<std::size_t>(ncell_[d]) + static_cast<std::size_t>(std::max(nb, 0));
+  const int x0 = std::max(ci[0] - 1, 0), x1 = std::min(ci[0] + 1, ncell_[0] - 1);
+  const Vec xi = p.x[i];
+  const double ri = p.radius[i];
+  const bool fixed = p.inv_mass[i] == 0.0;
+  constexpr int rows = D == 3 ? 9 : 3;
+  for (int r = 0; r < rows; ++r) {
+    const int y = ci[1] + r % 3 - 1;
+    if (y < 0 || y >= ncell_[1]) continue;
+    std::size_t row = static_cast<std::size_t>(y);
+    if constexpr (D == 3) {
+      const int z = ci[2] + r / 3 - 1;
+      if (z < 0 || z >= ncell_[2]) continue;
+      row += static_cast<std::size_t>(z) * static_cast<std::size_t>(ncell_[1]);
     }
-    if (!inside) continue;
-    for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
+    row *= static_cast<std::size_t>(ncell_[0]);
+    const std::uint32_t end = cell_start_[row + static_cast<std::size_t>(x1) + 1];
+    for (std::uint32_t k = cell_start_[row + static_cast<std::size_t>(x0)]; k < end; ++k) {
       const std::uint32_t j = cell_items_[k];
       if (j <= i) continue;
-      if ((p.inv_mass[i] == 0.0) && (p.inv_mass[j] == 0.0)) continue;  // two fixed grains
-      const double reach = p.radius[i] + p.radius[j] + skin;
-      if ((p.x[i] - p.x[j]).squaredNorm() < reach * reach) out.push_back(j);
+      if (fixed && p.inv_mass[j] == 0.0) continue;  // two fixed grains
+      const double reach = ri + p.radius[j] + skin;
+      if ((xi - p.x[j]).squaredNorm() < reach * reach) out.push_back(j);
     }
   }
   std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
@@ -126,25 +134,33 @@ void NeighborList<D>::build_pairs(const ParticleStore<D>& p, PairList<D>& out) {
   thread_j_.resize(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads) if (parallel)
   {
+    // The block grows in vectors of the thread's own: the threads' vector objects in
+    // thread_j_ sit side by side, in one cache line, and a push_back on each, in turn from
+    // both cores, made the search as slow on two threads as on one.
     const auto t = static_cast<std::size_t>(omp_get_thread_num());
-    std::vector<std::uint32_t>& bi = thread_i_[t];
-    std::vector<std::uint32_t>& bj = thread_j_[t];
+    std::vector<std::uint32_t> bi = std::move(thread_i_[t]), bj = std::move(thread_j_[t]);
     bi.clear();
     bj.clear();
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
     for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
       partners_of(p, static_cast<std::size_t>(ii), bj);
       bi.resize(bj.size(), static_cast<std::uint32_t>(ii));
     }
+    thread_i_[t] = std::move(bi);
+    thread_j_[t] = std::move(bj);
   }
+  std::size_t total = 0;
+  for (const auto& block : thread_j_) total += block.size();
+  reserve_ahead(out.i, total);  // see core/grow.hpp
+  reserve_ahead(out.j, total);
   for (std::size_t t = 0; t < thread_i_.size(); ++t) {
     out.i.insert(out.i.end(), thread_i_[t].begin(), thread_i_[t].end());
     out.j.insert(out.j.end(), thread_j_[t].begin(), thread_j_[t].end());
   }
-  out.shear.assign(out.size(), Vec::Zero());
-  out.force.assign(out.size(), Vec::Zero());
-  if (bridges) out.bridge.assign(out.size(), PairList<D>::kNoBridge);
-  if (rolling) out.roll.assign(out.size(), Space<D>::zero_rot());
+  assign_ahead(out.shear, out.size(), Vec(Vec::Zero()));
+  assign_ahead(out.force, out.size(), Vec(Vec::Zero()));
+  if (bridges) assign_ahead(out.bridge, out.size(), PairList<D>::kNoBridge);
+  if (rolling) assign_ahead(out.roll, out.size(), Space<D>::zero_rot());
 }
 
 template <int D>
@@ -161,9 +177,9 @@ void NeighborList<D>::build_wall_pairs(const ParticleStore<D>& p, const std::vec
       }
     }
   }
-  out.shear.assign(out.size(), Vec::Zero());
-  out.force.assign(out.size(), Vec::Zero());
-  if (rolling) out.roll.assign(out.size(), Space<D>::zero_rot());
+  assign_ahead(out.shear, out.size(), Vec(Vec::Zero()));
+  assign_ahead(out.force, out.size(), Vec(Vec::Zero()));
+  if (rolling) assign_ahead(out.roll, out.size(), Space<D>::zero_rot());
 }
 
 // Copy history of entries present in both sorted lists (keyed by (a, b)). `skipped(o)` is

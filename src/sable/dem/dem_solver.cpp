@@ -10,6 +10,7 @@
 #include "sable/contact/contact_lanes.hpp"
 #include "sable/contact/liquid.hpp"
 #include "sable/core/error.hpp"
+#include "sable/core/grow.hpp"
 #include "sable/world/guards.hpp"
 
 namespace sable {
@@ -82,13 +83,15 @@ bool DemSolver<D>::forces(const Moved* moved, double h_kick) {
     // The lists were rebuilt (or come from a snapshot): the scratch is indexed by list entry,
     // so it starts again from "apart" (-1 marks entries whose stored force must be cleared
     // if they are apart, since they may carry a force from before the rebuild).
-    pair_moment_.assign(nl.pairs.size(), Space<D>::zero_rot());
-    pair_delta_.assign(nl.pairs.size(), -1.0);
-    wall_moment_.assign(nl.wall_pairs.size(), Space<D>::zero_rot());
-    wall_delta_.assign(nl.wall_pairs.size(), -1.0);
-    pair_event_.assign(nl.bridges ? nl.pairs.size() : 0, 0);
-    pair_roll_.assign(nl.rolling ? nl.pairs.size() : 0, Space<D>::zero_rot());
-    wall_roll_.assign(nl.rolling ? nl.wall_pairs.size() : 0, Space<D>::zero_rot());
+    // With headroom (core/grow.hpp): a settling bed's lists grow at every rebuild.
+    const auto zero = Space<D>::zero_rot();
+    assign_ahead(pair_moment_, nl.pairs.size(), zero);
+    assign_ahead(pair_delta_, nl.pairs.size(), -1.0);
+    assign_ahead(wall_moment_, nl.wall_pairs.size(), zero);
+    assign_ahead(wall_delta_, nl.wall_pairs.size(), -1.0);
+    assign_ahead(pair_event_, nl.bridges ? nl.pairs.size() : 0, std::uint8_t{0});
+    assign_ahead(pair_roll_, nl.rolling ? nl.pairs.size() : 0, zero);
+    assign_ahead(wall_roll_, nl.rolling ? nl.wall_pairs.size() : 0, zero);
     scratch_build_ = nl.builds;
   }
   diag_ = StepDiagnostics{};

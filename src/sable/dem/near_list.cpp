@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "sable/core/grow.hpp"
+
 namespace sable {
 
 template <int D>
@@ -49,16 +51,23 @@ void NearList<D>::filter(const ParticleStore<D>& p, const NeighborList<D>& nl, d
   const double s = skin;
 #pragma omp parallel num_threads(threads) if (parallel)
   {
-    std::vector<std::uint32_t>& block = blocks_[static_cast<std::size_t>(omp_get_thread_num())];
+    // A vector of the thread's own: the threads' vector objects in blocks_ share a cache
+    // line, which push_back from both cores would bounce between them (see build_pairs).
+    const auto t = static_cast<std::size_t>(omp_get_thread_num());
+    std::vector<std::uint32_t> block = std::move(blocks_[t]);
     block.clear();
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
     for (std::ptrdiff_t k = 0; k < n_pairs; ++k) {
       const double reach = radius[pi[k]] + radius[pj[k]] + s;
       if (keep_all || (x[pi[k]] - x[pj[k]]).squaredNorm() < reach * reach)
         block.push_back(static_cast<std::uint32_t>(k));
     }
+    blocks_[t] = std::move(block);
   }
+  std::size_t total = 0;
+  for (const auto& block : blocks_) total += block.size();
   index.clear();
+  reserve_ahead(index, total);  // see core/grow.hpp
   for (const auto& block : blocks_) index.insert(index.end(), block.begin(), block.end());
   make_incidence(nl, p.size());
   x_ref_ = p.x;
@@ -82,6 +91,7 @@ void NearList<D>::make_incidence(const NeighborList<D>& nl, std::size_t n) {
     second_begin[i + 1] += second_begin[i];
   }
   // Counting sort of the entries by their second member; ascending within each grain.
+  reserve_ahead(second_pairs, index.size());
   second_pairs.resize(index.size());
   scratch_.assign(second_begin.begin(), second_begin.end() - 1);
   for (std::uint32_t k : index) second_pairs[scratch_[pl.j[k]]++] = k;

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "sable/collision/neighbor_list.hpp"
+#include "sable/core/grow.hpp"
 #include "sable/core/particles.hpp"
 
 namespace sable {
@@ -63,7 +64,7 @@ class NearList {
               Drop drop) {
     filter(p, nl, dt, keep_all);
     const auto n_pairs = static_cast<std::ptrdiff_t>(nl.pairs.size());
-    kept_.assign(nl.pairs.size(), 0);
+    assign_ahead(kept_, nl.pairs.size(), std::uint8_t{0});  // core/grow.hpp
     for (std::uint32_t k : index) kept_[k] = 1;
 #pragma omp parallel for schedule(static) if (n_pairs >= 8192)
     for (std::ptrdiff_t k = 0; k < n_pairs; ++k)
