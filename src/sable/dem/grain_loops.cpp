@@ -2,7 +2,8 @@
 //   - the opening loop: the first half kick and the drift, measuring on the way how far the
 //     grains have moved since the two lists' reference positions;
 //   - the closing loop: per grain, its wall contacts, the sum of its forces and torques, the
-//     second half kick and the check of its state.
+//     second half kick and the check of its state (each chunk of grains in three short runs,
+//     see finish()).
 // Each used to be several passes over every grain (kick and drift, two displacement scans;
 // wall contacts, gather, kick, state scan), each reading the grains' arrays again and each
 // a meeting of the thread team. A grain's operations are those of the separate passes, in
@@ -225,15 +226,22 @@ bool DemSolver<D>::finish(bool all, double h_kick) {
 #pragma omp parallel num_threads(blocks) firstprivate(pass) reduction(max : max_ratio) \
     reduction(+ : touching) reduction(| : bad) if (blocks > 1)
   {
-    const double h = h_kick;  // in a register: the loop calls wall_contact()
+    const double h = h_kick;  // a local: the compiler need not reload it after each call
     const bool kick = h > 0.0;
     share_grains(split, [&](std::size_t g0, std::size_t g1) {
+      // Three runs over the chunk (a few KiB: the second and third find it in the L1 cache):
+      // its wall contacts (its grains' wall pairs are one run of the list), its sums, then
+      // its kicks and checks. Each grain's operations keep their order (a wall contact reads
+      // only its own grain, whose kick comes after either way): the same bits as one loop
+      // doing all three per grain. But that loop called wall_contact() and carried the
+      // gather's loops, and the compiler kept its pointers on the stack: 10-15 % slower
+      // (docs/BENCHMARKS.md, twenty-fourth session).
+      for (std::uint32_t k = pass.wall_begin[g0]; k < pass.wall_begin[g1]; ++k)
+        wall_contact<Normal>(k, max_ratio, touching);
       const GrainPass c = pass;  // local to the chunk: in registers (see kick_drift)
+      for (std::size_t i = g0; i < g1; ++i) c.sum(i);
       int unsound = 0;
       for (std::size_t i = g0; i < g1; ++i) {
-        for (std::uint32_t k = c.wall_begin[i]; k < c.wall_begin[i + 1]; ++k)
-          wall_contact<Normal>(k, max_ratio, touching);
-        c.sum(i);
         if (kick) c.kick(i, h);
         unsound |= c.sound(i) ? 0 : 1;
       }
