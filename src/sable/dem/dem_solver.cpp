@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <type_traits>
 
@@ -11,6 +12,7 @@
 #include "sable/contact/liquid.hpp"
 #include "sable/core/error.hpp"
 #include "sable/core/grow.hpp"
+#include "sable/dem/grain_pass.hpp"
 #include "sable/world/guards.hpp"
 
 namespace sable {
@@ -66,14 +68,16 @@ void DemSolver<D>::step() {
 //      dem/near_list.hpp): the force on its first grain, written into the contact's own slot
 //      together with n x F and the overlap (for the torques), and in the dry pass added to
 //      its grains' sums as it goes (pair_forces: one block of grains per thread);
-//   2. per grain (in parallel, finish() in dem/grain_loops.cpp): its wall contacts, then, for
-//      the grains the pass did not sum, the sum of its contacts' forces and torques in the
-//      same order (second-member pairs, first-member pairs, wall pairs, by ascending index),
-//      or else its walls' terms added to the pass's sum; then the closing half kick by h_kick
-//      (none when 0).
+//   2. per grain, its closing: its wall contacts, then, for the grains the pass did not sum,
+//      the sum of its contacts' forces and torques in the same order (second-member pairs,
+//      first-member pairs, wall pairs, by ascending index), or else its walls' terms added
+//      to the pass's sum; then the closing half kick by h_kick (none when 0) and the check of
+//      its state. The dry pass closes each grain as soon as it has gone past it (and the
+//      grains it left to the gather after it, see pair_forces); wet runs close every grain
+//      in a loop of their own (finish() in dem/grain_loops.cpp).
 // No atomics, no per-thread force copies, and no race: each thread writes only its own items.
 // `moved`: the displacements the step's drift measured (null: measure them here). True when
-// some grain's state is unsound after the kick (finish()).
+// some grain's state is unsound after the kick.
 template <int D>
 bool DemSolver<D>::forces(const Moved* moved, double h_kick) {
   auto& nl = w_.neighbors;
@@ -115,18 +119,25 @@ bool DemSolver<D>::forces(const Moved* moved, double h_kick) {
     diag_.near_remakes = near_.remakes;
   }
   const bool hertz = w_.model.normal == NormalModel::kHertz;
+  bool unsound = false;
   {
     auto scope = timers_.time(Phase::kForces);
     if (wet)
       hertz ? wet_pair_forces<HertzNormal>() : wet_pair_forces<LinearNormal>();
     else if (rolling)
-      hertz ? pair_forces<HertzNormal, true>() : pair_forces<LinearNormal, true>();
+      unsound =
+          hertz ? pair_forces<HertzNormal, true>(h_kick) : pair_forces<LinearNormal, true>(h_kick);
     else
-      hertz ? pair_forces<HertzNormal, false>() : pair_forces<LinearNormal, false>();
+      unsound = hertz ? pair_forces<HertzNormal, false>(h_kick)
+                      : pair_forces<LinearNormal, false>(h_kick);
   }
   if (wet) settle_liquid();
   auto scope = timers_.time(Phase::kFinish);
-  return hertz ? finish<HertzNormal>(wet, h_kick) : finish<LinearNormal>(wet, h_kick);
+  if (!wet) {
+    total_wall_forces();
+    return unsound;
+  }
+  return hertz ? finish<HertzNormal>(h_kick) : finish<LinearNormal>(h_kick);
 }
 
 // Before a pass with rolling resistance: each grain's 1 / (I + m R^2), once per step rather
@@ -259,17 +270,20 @@ struct DemSolver<D>::PairPass {
       grain_torque[b] -= lever_j * m;
       if constexpr (Roll) grain_torque[b] -= c;
     } else if constexpr (How == Sum::kScatterChecked) {
-      if (!gathered[a]) {
+      const std::uint8_t flag_a = gathered[a] & kGathered, flag_b = gathered[b];
+      if (!flag_a) {
         grain_force[a] += f;
         grain_torque[a] -= lever_i * m;
         if constexpr (Roll) grain_torque[a] += c;
       }
-      if (!gathered[b]) {
+      if (!(flag_b & kGathered)) {
         grain_force[b] -= f;
         grain_torque[b] -= lever_j * m;
         if constexpr (Roll) grain_torque[b] -= c;
       }
-      if (gathered[a] | gathered[b]) moment[k] = m;
+      // The gather reads n x F for a gathered grain, and for one in a tail that another
+      // thread may take (a's own entries are then that thread's to do, not this pass's).
+      if (flag_a | flag_b) moment[k] = m;
     } else {
       moment[k] = m;
     }
@@ -414,17 +428,29 @@ typename DemSolver<D>::PairPass DemSolver<D>::pair_pass() {
 // member). It adds each contact's force and torque to the two grains as it goes, in list
 // order; a grain's terms come in the order the gather sums them (second-member entries,
 // whose first member is smaller, then first-member ones), so the sums are the same bits for
-// any number of threads. Only the grains another block's entries reach (flagged `gathered`
+// any number of threads. Only the grains another block's entries reach (flagged kGathered
 // by update_split(); none on one thread, a few % on two) are left to the gather. Gathering
 // every grain's sum afterwards cost 15 % of the step (perf, docs/BENCHMARKS.md). The blocks
 // and flags change only between passes (update_split(): after a near-list remake, or when
-// the threads' speeds move the cut). The last kPairTail of each block's work (its tail) is
-// shared in chunks (dem/grain_split.hpp): a thread done with its own block takes what is
-// left of its partner's tail, so neither waits for the other's hiccups. The tail's entries
-// only store their forces, whichever thread does them, and its grains are gathered.
+// the threads' speeds move the cut).
+//
+// The closing (walls, sums, half kick by h_kick, check: close_run()) follows every
+// kCloseChunk grains: an entry (i, j) has i < j, so once the pass is past grain g nothing
+// in it adds to g or reads it again, and g's data are still in the caches. A separate loop
+// over the grains read them all again, and on two threads read lines the other core had
+// written (docs/BENCHMARKS.md, twenty-fifth session).
+//
+// The last kPairTail of each block's work (its tail) is shared (dem/grain_split.hpp): the
+// block's thread takes it from the front, in chunks, adding and closing as before; a thread
+// done with its own block takes chunks from the far end, whose entries only store their
+// forces (Sum::kGather; the pass writes n x F for every entry whose second member lies in a
+// tail, kInTail, since either end may take it). After the pass, the threads meeting once,
+// the grains left to the gather are closed: the flagged ones, and in each block those from
+// where its tail's two ends met. Their wall contacts were made by whoever did their rows.
+// True when some grain's state is unsound after the kick.
 template <int D>
 template <class Normal, bool Roll>
-void DemSolver<D>::pair_forces() {
+bool DemSolver<D>::pair_forces(double h_kick) {
   // The pass clears every grain's sums (own()) as well as visiting the entries: a bed with
   // few contacts is still worth the threads, and clearing them all on one thread would leave
   // the other threads' grains in its cache for the next kick.
@@ -433,41 +459,65 @@ void DemSolver<D>::pair_forces() {
   const int blocks = split.blocks();
   split.open_chunks();
   PairPass pass = pair_pass();
+  GrainPass close = grain_pass(h_kick);
   const std::uint32_t* const near = near_.index.data();
   const std::uint32_t* const begin = near_.first_begin.data();
   const std::uint32_t* const block = split.bounds();
+  std::atomic<std::uint32_t> next_late{0};  // close_late()'s chunks
   double max_ratio = 0.0;
   std::size_t touching = 0;
-#pragma omp parallel num_threads(blocks) firstprivate(pass) reduction(max : max_ratio) \
-    reduction(+ : touching) if (blocks > 1)
+  int bad = 0;
+#pragma omp parallel num_threads(blocks) firstprivate(pass, close) reduction(max : max_ratio) \
+    reduction(+ : touching) reduction(| : bad) if (blocks > 1)
   {
     // A block per thread; with fewer threads than blocks, some take two: the same bits.
     const int team = omp_get_num_threads(), thread = omp_get_thread_num();
+    // Grains [r0, r1) of this thread's own: their entries, summed as the pass goes, then
+    // their closing, every kCloseChunk grains (their data still in the caches).
+    auto own_rows = [&](std::uint32_t r0, std::uint32_t r1) {
+      while (r0 < r1) {
+        const std::uint32_t r = r1 - r0 > kCloseChunk ? r0 + kCloseChunk : r1;
+        // One block: no grain is gathered, and the flags need not be read.
+        if (blocks == 1)
+          pass.template grains<Normal, Sum::kScatter, Roll>(near, begin, r0, r, max_ratio,
+                                                            touching);
+        else
+          pass.template grains<Normal, Sum::kScatterChecked, Roll>(near, begin, r0, r, max_ratio,
+                                                                   touching);
+        bad |= close_run<Normal>(close, r0, r, h_kick, max_ratio, touching);
+        r0 = r;
+      }
+    };
     std::uint32_t c0 = 0, c1 = 0;
     for (int t = thread; t < blocks; t += team) {
       const double start = omp_get_wtime();
       const std::uint32_t g0 = block[t], tail = split.tail(t);
       pass.own(g0, block[t + 1]);
-      // One block: no grain is gathered, and the flags need not be read.
-      if (blocks == 1)
-        pass.template grains<Normal, Sum::kScatter, Roll>(near, begin, g0, tail, max_ratio,
-                                                          touching);
-      else
-        pass.template grains<Normal, Sum::kScatterChecked, Roll>(near, begin, g0, tail, max_ratio,
-                                                                 touching);
+      own_rows(g0, tail);
       double work = double(begin[tail] - begin[g0]) + double(tail - g0);  // the cut's units
       while (split.take_chunk(t, c0, c1)) {
-        pass.template grains<Normal, Sum::kGather, Roll>(near, begin, c0, c1, max_ratio, touching);
+        own_rows(c0, c1);
         work += double(begin[c1] - begin[c0]) + double(c1 - c0);
       }
       if (team == blocks) split.add_busy(t, omp_get_wtime() - start, work);
     }
-    for (int k = 1; k < blocks; ++k)
-      while (split.take_chunk((thread + k) % blocks, c0, c1))
+    // Then the other blocks' tails, from their far ends: those entries only store their
+    // forces, and their grains are closed after the pass.
+    for (int k = 1; k < blocks; ++k) {
+      const int t = (thread + k) % blocks;
+      while (split.take_back(t, c0, c1)) {
         pass.template grains<Normal, Sum::kGather, Roll>(near, begin, c0, c1, max_ratio, touching);
+        wall_run<Normal>(c0, c1, max_ratio, touching);
+      }
+    }
+    if (blocks > 1) {
+#pragma omp barrier
+      bad |= close_late(close, next_late, h_kick);
+    }
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
   diag_.touching += touching;
+  return bad != 0;
 }
 
 // The pair pass's blocks of grains (dem/grain_split.hpp), cut again after a near-list remake,
@@ -476,10 +526,11 @@ void DemSolver<D>::pair_forces() {
 // (own() clears each grain's sums). Cut by entries alone, a bed whose contacts sit in a few
 // grains (a fall, where only the landed layers touch) gave one thread nearly every grain: two
 // threads took longer than one (docs/BENCHMARKS.md, thirteenth session). Then the flags: a
-// grain is gathered when it is the second member of an entry whose first member is in an
+// grain is kGathered when it is the second member of an entry whose first member is in an
 // earlier block (its first such entry has the smallest first member): that block's thread
-// would add to it, in a race and out of order; and every grain of a block's shared tail,
-// whose entries any thread may do. (Grains the near list does not hold are cut by count,
+// would add to it, in a race and out of order; kInTail for the grains of a block's shared
+// tail, which another thread may take (pair_forces). The kGathered grains are also listed,
+// for their closing after the pass. (Grains the near list does not hold are cut by count,
 // and the cut is made again once it holds them; the pass always finds them held.)
 template <int D>
 void DemSolver<D>::update_split() {
@@ -490,6 +541,7 @@ void DemSolver<D>::update_split() {
   const auto& begin = near_.first_begin;  // n + 1 offsets when the list holds every grain
   pair_split_.cut(n, blocks, begin);
   gathered_.assign(n, 0);
+  gathered_list_.clear();
   if (begin.size() != n + 1) {
     split_remake_ = ~std::uint64_t{0};
     return;
@@ -499,10 +551,13 @@ void DemSolver<D>::update_split() {
   const std::uint32_t* const bound = pair_split_.bounds();
   for (int t = 0; t < blocks; ++t) {
     const std::uint32_t tail = pair_split_.tail(t);
-    for (std::uint32_t g = bound[t]; g < tail; ++g)
-      gathered_[g] = sb[g] < sb[g + 1] && first[near_.second_pairs[sb[g]]] < bound[t];
-    for (std::uint32_t g = tail; g < bound[t + 1]; ++g) gathered_[g] = 1;  // shared tail
+    for (std::uint32_t g = bound[t]; g < bound[t + 1]; ++g)
+      gathered_[g] =
+          (sb[g] < sb[g + 1] && first[near_.second_pairs[sb[g]]] < bound[t] ? kGathered : 0) |
+          (g >= tail ? kInTail : 0);
   }
+  for (std::uint32_t g = 0; g < n; ++g)
+    if (gathered_[g] & kGathered) gathered_list_.push_back(g);
   split_remake_ = near_.remakes;
 }
 

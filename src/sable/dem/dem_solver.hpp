@@ -1,7 +1,9 @@
 // Soft-contact DEM: velocity Verlet over grains, contact forces from the World's contact law.
 #pragma once
 
-#include <array>
+#include <atomic>
+#include <cstdint>
+#include <vector>
 
 #include "sable/dem/grain_split.hpp"
 #include "sable/dem/near_list.hpp"
@@ -48,10 +50,14 @@ class DemSolver final : public Solver {
     for (GrainSplit* split : {&drift_split_, &pair_split_, &finish_split_})
       split->fix_shares(shares);
   }
-  // The blocks of grains of the last step's loops, in step order: the opening loop's, the pair
-  // pass's, the closing loop's (tests, diagnostics).
-  std::array<const GrainSplit*, 3> grain_splits() const {
-    return {&drift_split_, &pair_split_, &finish_split_};
+  // The blocks of grains of the step's parallel loops, in step order: the opening loop's, the
+  // pair pass's (which closes the grains in dry runs), and the wet runs' closing loop's, when
+  // they have been cut (tests, diagnostics).
+  std::vector<const GrainSplit*> grain_splits() const {
+    std::vector<const GrainSplit*> cut;
+    for (const GrainSplit* split : {&drift_split_, &pair_split_, &finish_split_})
+      if (split->blocks() > 0) cut.push_back(split);
+    return cut;
   }
 
  private:
@@ -60,10 +66,13 @@ class DemSolver final : public Solver {
   static constexpr std::ptrdiff_t kMinParallelItems = 2048;
   // The pair pass shares the last kPairTail of each block's work in chunks of kPairChunk
   // grains (a few us each) (see pair_forces): enough to absorb the few-% step-to-step
-  // wander of a thread's speed, little enough that gathering its grains costs less than
-  // the waiting it saves (docs/BENCHMARKS.md, twenty-first session).
+  // wander of a thread's speed (docs/BENCHMARKS.md, twenty-first and twenty-fifth sessions).
   static constexpr double kPairTail = 0.05;
   static constexpr std::uint32_t kPairChunk = 64;
+  // The dry pass closes its own grains every kCloseChunk grains (their data still in the
+  // caches: see pair_forces), and hands out the gathered grains' closing after it in chunks
+  // of kLateChunk.
+  static constexpr std::uint32_t kCloseChunk = 256, kLateChunk = 64;
 
   // The grains' largest squared displacements since the neighbour list's and the near list's
   // reference positions, measured in the drift loop (outer2 < 0: the neighbour list has no
@@ -74,13 +83,22 @@ class DemSolver final : public Solver {
   Moved kick_drift(double h_kick, double h_drift);
   bool forces(const Moved* moved, double h_kick);
   template <class Normal>
-  bool finish(bool all, double h_kick);
+  bool finish(double h_kick);
   template <class Normal>
   void wall_contact(std::size_t k, double& max_ratio, std::size_t& touching);
+  template <class Normal>
+  void wall_run(std::uint32_t g0, std::uint32_t g1, double& max_ratio, std::size_t& touching);
   struct GrainPass;
-  GrainPass grain_pass(bool all, double h_kick);
+  GrainPass grain_pass(double h_kick);
+  template <class Normal>
+  int close_run(const GrainPass& pass, std::uint32_t g0, std::uint32_t g1, double h,
+                double& max_ratio, std::size_t& touching);
+  int close_gathered(const GrainPass& pass, const std::uint32_t* g, std::uint32_t g0, std::size_t n,
+                     double h);
+  int close_late(const GrainPass& pass, std::atomic<std::uint32_t>& next, double h);
+  void total_wall_forces();
   template <class Normal, bool Roll>
-  void pair_forces();
+  bool pair_forces(double h_kick);
   void update_split();
   GrainSplit& loop_split(GrainSplit& split);
   template <class Normal>
@@ -107,7 +125,12 @@ class DemSolver final : public Solver {
   // so that its threads finish together (dem/grain_split.hpp). The pair pass's, and the grains
   // it leaves to the gather, are made again after each near-list remake (update_split()).
   GrainSplit drift_split_, pair_split_, finish_split_;
+  // Per grain, the pair pass's flags: kGathered, its sum is left to the gather (another
+  // block's entries reach it); kInTail, it lies in its block's shared tail, where the
+  // other threads may take it (see pair_forces).
+  static constexpr std::uint8_t kGathered = 1, kInTail = 2;
   std::vector<std::uint8_t> gathered_;
+  std::vector<std::uint32_t> gathered_list_;  // the grains flagged in gathered_, ascending
   std::uint64_t split_remake_ = ~std::uint64_t{0};
   // Capillary bridges: per pair, a bridge event of this step (kBridgeFormed / kBridgeBroken),
   // applied in list order after the force pass; events_ counts them (0: nothing to scan).

@@ -1,9 +1,10 @@
-// The DEM step's loops over grains (dem_solver.cpp holds the step itself and the pair passes):
+// The DEM step's work per grain (dem_solver.cpp holds the step itself and the pair passes):
 //   - the opening loop: the first half kick and the drift, measuring on the way how far the
 //     grains have moved since the two lists' reference positions;
-//   - the closing loop: per grain, its wall contacts, the sum of its forces and torques, the
-//     second half kick and the check of its state (each chunk of grains in three short runs,
-//     see finish()).
+//   - the closing: per grain, its wall contacts, the sum of its forces and torques, the
+//     second half kick and the check of its state. The dry pair pass closes its grains as it
+//     goes (close_run(), close_gathered(): see DemSolver::pair_forces); wet runs in a loop of
+//     their own, finish() (each chunk of grains in three short runs).
 // Each used to be several passes over every grain (kick and drift, two displacement scans;
 // wall contacts, gather, kick, state scan), each reading the grains' arrays again and each
 // a meeting of the thread team. A grain's operations are those of the separate passes, in
@@ -13,10 +14,12 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "sable/contact/contact_model.hpp"
 #include "sable/dem/dem_solver.hpp"
+#include "sable/dem/grain_pass.hpp"
 #include "sable/world/guards.hpp"
 
 namespace sable {
@@ -48,89 +51,8 @@ template <class Body>
 
 }  // namespace
 
-// What the grain loops read and write, as raw pointers and plain copies taken once per loop
-// (reached through w_, every vector store would make the compiler fetch each array's address
-// again: see PairPass in dem_solver.cpp). Each thread works on its own copy (firstprivate).
 template <int D>
-struct DemSolver<D>::GrainPass {
-  using S = Space<D>;
-  using Vec = typename S::Vec;
-  using Rot = typename S::Rot;
-  Vec *x, *v;
-  typename S::Orientation* q;
-  Rot* w;
-  Vec* f;
-  Rot* t;
-  const double *inv_mass, *inv_inertia, *radius;
-  Vec gravity;
-  double keep;  // background damping over a half kick: 1 / (1 + nu h)
-  double max_speed;
-  // The gather: grain i's contacts, in the order of NearList's incidence and wall_begin.
-  const std::uint32_t *near, *first_begin, *second_begin, *second_pairs, *wall_begin;
-  const Vec *pair_force, *wall_force;
-  const Rot *pair_moment, *wall_moment, *pair_roll, *wall_roll;
-  const double *pair_delta, *wall_delta;
-  const std::uint8_t* gathered;
-  bool all, rolling;
-
-  // v += h a, w += h alpha: a half kick; gravity enters as an acceleration. The background
-  // damping -m nu v, -I nu w is taken implicitly (v_new feels it): stable for any nu h.
-  // False for a grain that does not move (infinite mass).
-  [[gnu::always_inline]] bool kick(std::size_t k, double h) const {
-    if (inv_mass[k] == 0.0) return false;
-    v[k] += h * (f[k] * inv_mass[k] + gravity);
-    w[k] += h * inv_inertia[k] * t[k];
-    if (keep != 1.0) {
-      v[k] *= keep;
-      w[k] *= keep;
-    }
-    return true;
-  }
-
-  // Grain i's sum, from its contacts' slots, when the pair pass did not make it (`all`: the
-  // wet pass; else the grains flagged `gathered`); the others get their walls' terms added
-  // to the pair pass's sums. The torque of force F at lever arm -(R - delta/2) n is
-  // -(R - delta/2) (n x F) for the first grain; the second grain gets -F at +(R - delta/2) n:
-  // the same sign, its own R. A grain's terms are summed in list order: the entries where it
-  // is the second member (their first member has a smaller index, so they come first in the
-  // list), then those where it is the first, then its walls; the dry pass meets them in that
-  // order too, so either way the bits are the same. Rolling resistance: each contact's couple
-  // follows its force's torque (+ on the first grain, - on the second).
-  [[gnu::always_inline]] void sum(std::size_t i) const {
-    const bool full = all || gathered[i];
-    if (!full && wall_begin[i] == wall_begin[i + 1]) return;  // the pass's sum is final
-    Vec fi = full ? S::zero() : f[i];
-    Rot ti = full ? S::zero_rot() : t[i];
-    const double r = radius[i];
-    for (std::uint32_t s = second_begin[i]; full && s < second_begin[i + 1]; ++s) {
-      const std::uint32_t k = second_pairs[s];
-      fi -= pair_force[k];
-      ti -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
-      if (rolling) ti -= pair_roll[k];
-    }
-    for (std::uint32_t m = first_begin[i]; full && m < first_begin[i + 1]; ++m) {
-      const std::uint32_t k = near[m];
-      fi += pair_force[k];
-      ti -= (r - 0.5 * pair_delta[k]) * pair_moment[k];
-      if (rolling) ti += pair_roll[k];
-    }
-    for (std::uint32_t k = wall_begin[i]; k < wall_begin[i + 1]; ++k) {
-      fi += wall_force[k];
-      ti -= (r - 0.5 * wall_delta[k]) * wall_moment[k];
-      if (rolling) ti += wall_roll[k];
-    }
-    f[i] = fi;
-    t[i] = ti;
-  }
-
-  // What check_grain_states() tests (world/guards.hpp).
-  [[gnu::always_inline]] bool sound(std::size_t k) const {
-    return motion_ok<D>(v[k], w[k], max_speed) && position_ok<D>(x[k]);
-  }
-};
-
-template <int D>
-typename DemSolver<D>::GrainPass DemSolver<D>::grain_pass(bool all, double h_kick) {
+typename DemSolver<D>::GrainPass DemSolver<D>::grain_pass(double h_kick) {
   auto& p = w_.particles;
   const auto& nl = w_.neighbors;
   const double keep = w_.viscous_rate > 0.0 ? 1.0 / (1.0 + w_.viscous_rate * h_kick) : 1.0;
@@ -160,7 +82,6 @@ typename DemSolver<D>::GrainPass DemSolver<D>::grain_pass(bool all, double h_kic
           pair_delta_.data(),
           wall_delta_.data(),
           gathered_.data(),
-          all,
           w_.model.rolling != RollingModel::kNone};
 }
 
@@ -171,7 +92,7 @@ typename DemSolver<D>::GrainPass DemSolver<D>::grain_pass(bool all, double h_kic
 template <int D>
 typename DemSolver<D>::Moved DemSolver<D>::kick_drift(double h_kick, double h_drift) {
   using S = Space<D>;
-  GrainPass pass = grain_pass(false, h_kick);
+  GrainPass pass = grain_pass(h_kick);
   const auto& outer_ref = w_.neighbors.x_ref;
   const auto& near_ref = near_.reference();
   const typename S::Vec* const outer =
@@ -209,14 +130,15 @@ typename DemSolver<D>::Moved DemSolver<D>::kick_drift(double h_kick, double h_dr
   return {outer ? outer2 : -1.0, near2};
 }
 
-// The step's closing loop over the grains: per grain, its wall contacts, its sums (see
-// GrainPass::sum), the second half kick by h_kick (none when 0: forces only) and the check of
-// its state; true when some grain's state is unsound (check_grain_states() then names it).
-// Then each wall's total force, in list order.
+// The wet runs' closing loop over the grains (the dry pass closes its grains itself): per
+// grain, its wall contacts, its sum from its contacts' slots (see GrainPass::sum), the second
+// half kick by h_kick (none when 0: forces only) and the check of its state; true when some
+// grain's state is unsound (check_grain_states() then names it). Then each wall's total
+// force, in list order.
 template <int D>
 template <class Normal>
-bool DemSolver<D>::finish(bool all, double h_kick) {
-  GrainPass pass = grain_pass(all, h_kick);
+bool DemSolver<D>::finish(double h_kick) {
+  GrainPass pass = grain_pass(h_kick);
   GrainSplit& split = loop_split(finish_split_);
   const int blocks = split.blocks();
   split.open_chunks();
@@ -239,7 +161,7 @@ bool DemSolver<D>::finish(bool all, double h_kick) {
       for (std::uint32_t k = pass.wall_begin[g0]; k < pass.wall_begin[g1]; ++k)
         wall_contact<Normal>(k, max_ratio, touching);
       const GrainPass c = pass;  // local to the chunk: in registers (see kick_drift)
-      for (std::size_t i = g0; i < g1; ++i) c.sum(i);
+      for (std::size_t i = g0; i < g1; ++i) c.sum(i, true);
       int unsound = 0;
       for (std::size_t i = g0; i < g1; ++i) {
         if (kick) c.kick(i, h);
@@ -250,10 +172,108 @@ bool DemSolver<D>::finish(bool all, double h_kick) {
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
   diag_.touching += touching;
+  total_wall_forces();
+  return bad != 0;
+}
+
+// Grains [g0, g1)'s wall contacts (their wall pairs are one run of the list).
+template <int D>
+template <class Normal>
+void DemSolver<D>::wall_run(std::uint32_t g0, std::uint32_t g1, double& max_ratio,
+                            std::size_t& touching) {
+  const std::uint32_t* const wb = w_.neighbors.wall_begin.data();
+  for (std::uint32_t k = wb[g0]; k < wb[g1]; ++k) wall_contact<Normal>(k, max_ratio, touching);
+}
+
+// The dry pair pass's closing of grains [g0, g1), once it has gone past their entries (see
+// pair_forces): their wall contacts, then, for each grain whose sum the pass made (not
+// kGathered), its walls' terms, its half kick by h (none when 0) and its check. 1 when one of
+// them is unsound.
+template <int D>
+template <class Normal>
+int DemSolver<D>::close_run(const GrainPass& pass, std::uint32_t g0, std::uint32_t g1, double h,
+                            double& max_ratio, std::size_t& touching) {
+  wall_run<Normal>(g0, g1, max_ratio, touching);
+  const GrainPass c = pass;  // local: in registers (see kick_drift)
+  for (std::size_t i = g0; i < g1; ++i)
+    if (!(c.gathered[i] & kGathered)) c.sum(i, false);
+  int unsound = 0;
+  const bool kick = h > 0.0;
+  for (std::size_t i = g0; i < g1; ++i) {
+    if (c.gathered[i] & kGathered) continue;
+    if (kick) c.kick(i, h);
+    unsound |= c.sound(i) ? 0 : 1;
+  }
+  return unsound;
+}
+
+// The closing of grains the dry pass left to the gather, after it (see pair_forces): the sum
+// from their contacts' slots, the half kick by h and the check; grains g[0..n) when `g`,
+// else grains [g0, g0 + n) but those flagged kGathered (the list has them). 1 when one is
+// unsound.
+template <int D>
+int DemSolver<D>::close_gathered(const GrainPass& pass, const std::uint32_t* g, std::uint32_t g0,
+                                 std::size_t n, double h) {
+  const GrainPass c = pass;
+  auto grain = [&](std::size_t s) -> std::size_t { return g ? g[s] : g0 + s; };
+  auto skip = [&](std::size_t i) { return !g && (c.gathered[i] & kGathered); };
+  for (std::size_t s = 0; s < n; ++s)
+    if (!skip(grain(s))) c.sum(grain(s), true);
+  int unsound = 0;
+  const bool kick = h > 0.0;
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::size_t i = grain(s);
+    if (skip(i)) continue;
+    if (kick) c.kick(i, h);
+    unsound |= c.sound(i) ? 0 : 1;
+  }
+  return unsound;
+}
+
+// After the dry pass, on each thread once they have met (see pair_forces): the closing of the
+// grains it left to the gather, the listed ones (kGathered), then in each block those from
+// where its tail's two ends met, handed out in chunks of kLateChunk by `next`. Relaxed: the
+// meeting has ordered the pass's writes; which thread closes a grain changes nothing but the
+// speed. 1 when one of them is unsound.
+template <int D>
+int DemSolver<D>::close_late(const GrainPass& pass, std::atomic<std::uint32_t>& next, double h) {
+  const GrainSplit& split = pair_split_;
+  const int blocks = split.blocks();
+  const std::uint32_t* const block = split.bounds();
+  const std::uint32_t* const listed = gathered_list_.data();
+  const auto n_list = static_cast<std::uint32_t>(gathered_list_.size());
+  std::uint32_t n_late = n_list;
+  for (int t = 0; t < blocks; ++t) n_late += block[t + 1] - split.taken_back_from(t);
+  int bad = 0;
+  for (;;) {
+    std::uint32_t l0 = next.fetch_add(kLateChunk, std::memory_order_relaxed);
+    if (l0 >= n_late) return bad;
+    const std::uint32_t l1 = std::min(l0 + kLateChunk, n_late);
+    if (l0 < n_list) {
+      const std::uint32_t n = std::min(l1, n_list) - l0;
+      bad |= close_gathered(pass, listed + l0, 0, n, h);
+      l0 += n;
+    }
+    // Past the list: the blocks' taken grains, one block's run after the other.
+    std::uint32_t base = n_list;
+    for (int t = 0; t < blocks && l0 < l1; ++t) {
+      const std::uint32_t from = split.taken_back_from(t), size = block[t + 1] - from;
+      if (l0 < base + size) {
+        const std::uint32_t n = std::min(l1, base + size) - l0;
+        bad |= close_gathered(pass, nullptr, from + (l0 - base), n, h);
+        l0 += n;
+      }
+      base += size;
+    }
+  }
+}
+
+// The walls' total forces, in list order.
+template <int D>
+void DemSolver<D>::total_wall_forces() {
   const auto& wl = w_.neighbors.wall_pairs;
   for (auto& wall : w_.walls) wall.force.setZero();
   for (std::size_t k = 0; k < wl.size(); ++k) w_.walls[wl.wall[k]].force -= wl.force[k];
-  return bad != 0;
 }
 
 // Wall pair k's contact: its force on the grain, n x F and overlap stored in its slots (for
@@ -306,9 +326,33 @@ void DemSolver<D>::wall_contact(std::size_t k, double& max_ratio, std::size_t& t
 
 template DemSolver<2>::Moved DemSolver<2>::kick_drift(double, double);
 template DemSolver<3>::Moved DemSolver<3>::kick_drift(double, double);
-template bool DemSolver<2>::finish<HertzNormal>(bool, double);
-template bool DemSolver<2>::finish<LinearNormal>(bool, double);
-template bool DemSolver<3>::finish<HertzNormal>(bool, double);
-template bool DemSolver<3>::finish<LinearNormal>(bool, double);
+template int DemSolver<2>::close_gathered(const GrainPass&, const std::uint32_t*, std::uint32_t,
+                                          std::size_t, double);
+template int DemSolver<3>::close_gathered(const GrainPass&, const std::uint32_t*, std::uint32_t,
+                                          std::size_t, double);
+template int DemSolver<2>::close_late(const GrainPass&, std::atomic<std::uint32_t>&, double);
+template int DemSolver<3>::close_late(const GrainPass&, std::atomic<std::uint32_t>&, double);
+template void DemSolver<2>::total_wall_forces();
+template void DemSolver<3>::total_wall_forces();
+template bool DemSolver<2>::finish<HertzNormal>(double);
+template bool DemSolver<2>::finish<LinearNormal>(double);
+template bool DemSolver<3>::finish<HertzNormal>(double);
+template bool DemSolver<3>::finish<LinearNormal>(double);
+template int DemSolver<2>::close_run<HertzNormal>(const GrainPass&, std::uint32_t, std::uint32_t,
+                                                  double, double&, std::size_t&);
+template void DemSolver<2>::wall_run<HertzNormal>(std::uint32_t, std::uint32_t, double&,
+                                                  std::size_t&);
+template int DemSolver<2>::close_run<LinearNormal>(const GrainPass&, std::uint32_t, std::uint32_t,
+                                                   double, double&, std::size_t&);
+template void DemSolver<2>::wall_run<LinearNormal>(std::uint32_t, std::uint32_t, double&,
+                                                   std::size_t&);
+template int DemSolver<3>::close_run<HertzNormal>(const GrainPass&, std::uint32_t, std::uint32_t,
+                                                  double, double&, std::size_t&);
+template void DemSolver<3>::wall_run<HertzNormal>(std::uint32_t, std::uint32_t, double&,
+                                                  std::size_t&);
+template int DemSolver<3>::close_run<LinearNormal>(const GrainPass&, std::uint32_t, std::uint32_t,
+                                                   double, double&, std::size_t&);
+template void DemSolver<3>::wall_run<LinearNormal>(std::uint32_t, std::uint32_t, double&,
+                                                   std::size_t&);
 
 }  // namespace sable

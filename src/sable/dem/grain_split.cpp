@@ -13,7 +13,7 @@ void GrainSplit::reset(int blocks) {
   work_.assign(nb, 0.0);
   estimate_.assign(nb * kEvery, 0.0);
   busy_.assign(nb, Busy{});
-  next_grain_ = std::vector<NextGrain>(nb);  // atomics: made, not copied
+  ends_ = std::vector<Ends>(nb);  // atomics: made, not copied
   steps_ = 0;
   fixed_ = false;
 }

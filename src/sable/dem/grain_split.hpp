@@ -28,9 +28,13 @@
 // opening and closing grain loops: no grain's operations read what another's write) a
 // thread takes its own block in chunks, and then the chunks its partners have not reached
 // yet. Which thread does a grain changes the speed only, never the bits. The pair pass shares
-// only the tail of each block (share_tail()): its threads add forces to their own grains as
-// they go, in list order, which a chunk done by another thread cannot; the tail's entries
-// only store their forces, and the closing loop adds them (see dem_solver.cpp).
+// only the tail of each block (share_tail()), and from both ends: its threads add forces to
+// their own grains as they go, in list order, which a chunk done by another thread cannot.
+// A block's own thread takes its tail from the front (take_chunk()) and goes on adding; a
+// thread done with its own takes chunks from the far end (take_back()), whose entries only
+// store their forces; those grains, from where the two ends met (taken_back_from()), are
+// summed after the pass (see DemSolver::pair_forces). So only as many grains are left to
+// that slower sum as the step's imbalance asked for.
 #pragma once
 
 #include <algorithm>
@@ -85,24 +89,43 @@ class GrainSplit {
 
   // Chunks (see the header comment). open_chunks() before the loop, on one thread; then each
   // thread does its own blocks' grains before the tail, takes their tails' chunks with
-  // take_chunk() until they are done, then the others'. A chunk is [g0, g1); false once
-  // block b has none left.
-  static constexpr std::uint32_t kChunk = 256;  // grains: a few us of work, one atomic add
+  // take_chunk() until they are done, then the others' (take_chunk(), or take_back() from
+  // the tail's far end). A chunk is [g0, g1); false once block b has none left.
+  static constexpr std::uint32_t kChunk = 256;  // grains: a few us of work, one atomic op
   void open_chunks() {
     for (std::size_t b = 0; b < tail_.size(); ++b)
-      next_grain_[b].g.store(tail_[b], std::memory_order_relaxed);
+      ends_[b].v.store(pack(tail_[b], bound_[b + 1]), std::memory_order_relaxed);
   }
+  // The next chunk from the front of block b's tail.
   bool take_chunk(int b, std::uint32_t& g0, std::uint32_t& g1) {
-    const auto k = static_cast<std::size_t>(b);
-    const std::uint64_t end = bound_[k + 1];
-    std::atomic<std::uint64_t>& next = next_grain_[k].g;
-    // Relaxed: the chunks' grains are independent; the loop's closing barrier orders the rest.
-    if (next.load(std::memory_order_relaxed) >= end) return false;  // no write once done
-    const std::uint64_t start = next.fetch_add(chunk_, std::memory_order_relaxed);
-    if (start >= end) return false;
-    g0 = static_cast<std::uint32_t>(start);
-    g1 = static_cast<std::uint32_t>(std::min(start + chunk_, end));
-    return true;
+    std::atomic<std::uint64_t>& ends = ends_[static_cast<std::size_t>(b)].v;
+    // Relaxed: the chunks are disjoint whichever order the threads take them in; the loop's
+    // closing barrier orders the rest.
+    std::uint64_t now = ends.load(std::memory_order_relaxed);
+    for (;;) {
+      const std::uint32_t front = low(now), back = high(now);
+      if (front >= back) return false;  // no write once done
+      g0 = front;
+      g1 = back - front > chunk_ ? front + chunk_ : back;
+      if (ends.compare_exchange_weak(now, pack(g1, back), std::memory_order_relaxed)) return true;
+    }
+  }
+  // The next chunk from the back of block b's tail.
+  bool take_back(int b, std::uint32_t& g0, std::uint32_t& g1) {
+    std::atomic<std::uint64_t>& ends = ends_[static_cast<std::size_t>(b)].v;
+    std::uint64_t now = ends.load(std::memory_order_relaxed);
+    for (;;) {
+      const std::uint32_t front = low(now), back = high(now);
+      if (front >= back) return false;
+      g1 = back;
+      g0 = back - front > chunk_ ? back - chunk_ : front;
+      if (ends.compare_exchange_weak(now, pack(front, g0), std::memory_order_relaxed)) return true;
+    }
+  }
+  // Once the loop is over: the first of block b's grains that take_back() handed out (the
+  // block's end when none).
+  std::uint32_t taken_back_from(int b) const {
+    return high(ends_[static_cast<std::size_t>(b)].v.load(std::memory_order_relaxed));
   }
   // At the end of each step: the step's times become an estimate of the shares; every kEvery
   // steps the shares move towards the estimates, and fits() turns false once a cut would move
@@ -135,10 +158,16 @@ class GrainSplit {
     bool partial = false;  // else: the whole block
   };
   std::vector<Busy> busy_;
-  struct alignas(64) NextGrain {  // per block, its own cache line: the next chunk's start
-    std::atomic<std::uint64_t> g{0};
+  // Per block, its own cache line: the front and the back of what is left of its tail.
+  static std::uint64_t pack(std::uint32_t front, std::uint32_t back) {
+    return std::uint64_t{front} | std::uint64_t{back} << 32;
+  }
+  static std::uint32_t low(std::uint64_t e) { return static_cast<std::uint32_t>(e); }
+  static std::uint32_t high(std::uint64_t e) { return static_cast<std::uint32_t>(e >> 32); }
+  struct alignas(64) Ends {
+    std::atomic<std::uint64_t> v{0};
   };
-  std::vector<NextGrain> next_grain_;
+  std::vector<Ends> ends_;
   std::size_t steps_ = 0;  // rows of estimate_ filled
   bool fixed_ = false, recut_ = false;
 };

@@ -7,12 +7,14 @@
 
 namespace sable {
 
-// DEM uses the first four phases (integrate: the first half kick and the drift; finish: the
-// wall contacts, the grains' sums and the second half kick, one loop), contact dynamics
-// integrate, neighbors, contacts and solve; a summary lists the phases that took time.
+// DEM uses the first four phases (integrate: the first half kick and the drift; pair pass:
+// the contact forces, and in dry runs each grain's closing as well, its wall contacts, sum and
+// second half kick; closing: the wet runs' closing loop, and the walls' total forces),
+// contact dynamics integrate, neighbors, contacts and solve; a summary lists the phases that
+// took time.
 enum class Phase : int { kIntegrate, kNeighbors, kForces, kFinish, kContacts, kSolve, kCount };
 inline constexpr std::array<std::string_view, static_cast<int>(Phase::kCount)> kPhaseNames = {
-    "integrate", "neighbors", "pair forces", "walls+sums+kick", "contact build", "NLGS solve"};
+    "integrate", "neighbors", "pair pass", "closing", "contact build", "NLGS solve"};
 
 class PhaseTimers {
  public:
