@@ -158,8 +158,8 @@ bool DemSolver<D>::finish(double h_kick) {
       // doing all three per grain. But that loop called wall_contact() and carried the
       // gather's loops, and the compiler kept its pointers on the stack: 10-15 % slower
       // (docs/BENCHMARKS.md, twenty-fourth session).
-      for (std::uint32_t k = pass.wall_begin[g0]; k < pass.wall_begin[g1]; ++k)
-        wall_contact<Normal>(k, max_ratio, touching);
+      wall_run<Normal>(static_cast<std::uint32_t>(g0), static_cast<std::uint32_t>(g1), max_ratio,
+                       touching);
       const GrainPass c = pass;  // local to the chunk: in registers (see kick_drift)
       for (std::size_t i = g0; i < g1; ++i) c.sum(i, true);
       int unsound = 0;
