@@ -149,7 +149,6 @@ bool DemSolver<D>::finish(double h_kick) {
     reduction(+ : touching) reduction(| : bad) if (blocks > 1)
   {
     const double h = h_kick;  // a local: the compiler need not reload it after each call
-    const bool kick = h > 0.0;
     share_grains(split, [&](std::size_t g0, std::size_t g1) {
       // Three runs over the chunk (a few KiB: the second and third find it in the L1 cache):
       // its wall contacts (its grains' wall pairs are one run of the list), its sums, then
@@ -163,10 +162,7 @@ bool DemSolver<D>::finish(double h_kick) {
       const GrainPass c = pass;  // local to the chunk: in registers (see kick_drift)
       for (std::size_t i = g0; i < g1; ++i) c.sum(i, true);
       int unsound = 0;
-      for (std::size_t i = g0; i < g1; ++i) {
-        if (kick) c.kick(i, h);
-        unsound |= c.sound(i) ? 0 : 1;
-      }
+      for (std::size_t i = g0; i < g1; ++i) unsound |= c.close(i, h);
       bad |= unsound;
     });
   }
@@ -198,12 +194,8 @@ int DemSolver<D>::close_run(const GrainPass& pass, std::uint32_t g0, std::uint32
   for (std::size_t i = g0; i < g1; ++i)
     if (!(c.gathered[i] & kGathered)) c.sum(i, false);
   int unsound = 0;
-  const bool kick = h > 0.0;
-  for (std::size_t i = g0; i < g1; ++i) {
-    if (c.gathered[i] & kGathered) continue;
-    if (kick) c.kick(i, h);
-    unsound |= c.sound(i) ? 0 : 1;
-  }
+  for (std::size_t i = g0; i < g1; ++i)
+    if (!(c.gathered[i] & kGathered)) unsound |= c.close(i, h);
   return unsound;
 }
 
@@ -220,13 +212,8 @@ int DemSolver<D>::close_gathered(const GrainPass& pass, const std::uint32_t* g, 
   for (std::size_t s = 0; s < n; ++s)
     if (!skip(grain(s))) c.sum(grain(s), true);
   int unsound = 0;
-  const bool kick = h > 0.0;
-  for (std::size_t s = 0; s < n; ++s) {
-    const std::size_t i = grain(s);
-    if (skip(i)) continue;
-    if (kick) c.kick(i, h);
-    unsound |= c.sound(i) ? 0 : 1;
-  }
+  for (std::size_t s = 0; s < n; ++s)
+    if (!skip(grain(s))) unsound |= c.close(grain(s), h);
   return unsound;
 }
 

@@ -89,6 +89,13 @@ struct DemSolver<D>::GrainPass {
   [[gnu::always_inline]] bool sound(std::size_t k) const {
     return motion_ok<D>(v[k], w[k], max_speed) && position_ok<D>(x[k]);
   }
+
+  // Grain k's closing once its sum is final: its half kick by h (none when 0: forces only)
+  // and its check. 1 when its state is unsound (check_grain_states() then names it).
+  [[gnu::always_inline]] int close(std::size_t k, double h) const {
+    if (h > 0.0) kick(k, h);
+    return sound(k) ? 0 : 1;
+  }
 };
 
 }  // namespace sable
