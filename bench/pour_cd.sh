@@ -37,7 +37,7 @@ sed -e "s/^criterion = .*/criterion = \"natural\"\nlocal_solver = \"$local_solve
     -e "s/^\[simulation\]/[simulation]$(reorder_line "${CD_REORDER:-auto}")/" bench/pour_cd.toml > "$work/pour_cd.toml"
 rm -rf "$out"
 mkdir -p "$out"
-"$sable" run "$work/pour_cd.toml" --out "$out" --resume "$snap" 2> "$out/cd.log"
+"$sable" run "$work/pour_cd.toml" --out "$out" --resume "$snap" --accept-changes 2> "$out/cd.log"
 grep -E "^stage 'cd' done|^done:|warning" "$out/cd.log" || true
 /usr/bin/python3 - "$out/series.csv" "$out/cd.log" <<'PY'
 import csv, re, sys

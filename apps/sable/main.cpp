@@ -1,10 +1,17 @@
 // The `sable` command line: run, check, info, analyze, models, fc3d.
 //
-// Exit codes: 0 success, 1 the simulation failed (NaN, runaway grain; a snapshot is written),
-// 2 bad input (scenario, snapshot, command line), with a message naming the place.
+// Exit codes (docs/reliability.md): 0 success; 1 the computation failed (NaN, runaway grain:
+// a snapshot is written; `fc3d` not converged); 2 bad input (scenario, snapshot, command
+// line), with a message naming the place; 3 an output could not be written (disk full, no
+// permission); 128 + N: `run` stopped by signal N (SIGHUP, SIGINT, SIGTERM) after finishing
+// its step and writing a final snapshot.
 #include <fmt/format.h>
+#include <hdf5.h>
 #include <sys/resource.h>
 #include <CLI/CLI.hpp>
+#include <charconv>
+#include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <iostream>
 
@@ -18,9 +25,59 @@
 
 namespace {
 
-int cmd_run(const std::string& file, const sable::RunOptions& opt) {
+constexpr int kExitFailed = 1;
+constexpr int kExitInput = 2;
+constexpr int kExitIo = 3;
+
+// The signal that asked `run` to stop (0: none). A signal handler can only set a flag of this
+// type; the runner reads it after every step.
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void on_stop_signal(int sig) {
+  g_stop_signal = sig;
+}
+
+// SIGINT, SIGTERM and SIGHUP finish the step and write a snapshot. The handler is reset to
+// the default by the first signal (SA_RESETHAND): a second one ends the process at once, and
+// the atomic writes still leave no damaged file. SIGXFSZ is ignored so that a file-size limit
+// fails the write (EFBIG, an I/O error with the file named) instead of killing the run.
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESETHAND;
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
+  std::signal(SIGXFSZ, SIG_IGN);
+}
+
+const char* signal_name(int sig) {
+  switch (sig) {
+    case SIGINT:
+      return "SIGINT";
+    case SIGTERM:
+      return "SIGTERM";
+    case SIGHUP:
+      return "SIGHUP";
+    default:
+      return "a signal";
+  }
+}
+
+int cmd_run(const std::string& file, sable::RunOptions opt) {
   const sable::ScenarioConfig cfg = sable::load_scenario(file);
+  install_signal_handlers();
+  opt.stop = &g_stop_signal;
   const sable::RunResult r = sable::run_scenario(cfg, opt);
+  if (r.interrupted_by != 0) {
+    std::cerr << fmt::format(
+        "interrupted by {} at step {} (t = {:.6g} s), state hash {:016x}{}\n",
+        signal_name(r.interrupted_by), r.steps, r.time, r.state_hash,
+        r.last_snapshot.empty()
+            ? std::string()
+            : fmt::format("; state written to {}; continue with: sable run {} --resume {}",
+                          r.last_snapshot, file, r.last_snapshot));
+    return 128 + r.interrupted_by;
+  }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   std::cerr << fmt::format(
@@ -80,6 +137,18 @@ int cmd_fc3d(const std::string& file, const Fc3dOptions& o) {
       file, r.contacts, o.local, o.order, r.iterations,
       r.converged ? "" : fmt::format(" (not converged to {:g})", o.tolerance), r.residual,
       r.seconds);
+  if (!std::isfinite(r.residual)) {
+    std::cerr << fmt::format("error: {}: the residual is {}: the problem's data is not finite\n",
+                             file, r.residual);
+    return kExitFailed;
+  }
+  if (!r.converged) {
+    std::cerr << fmt::format(
+        "error: {}: not converged: residual {:.3e} above --tolerance {:g} after {} iterations "
+        "(raise --max-iterations, or try --local exact or another --order)\n",
+        file, r.residual, o.tolerance, r.iterations);
+    return kExitFailed;
+  }
   return 0;
 }
 
@@ -122,10 +191,54 @@ int cmd_analyze(sable::AnalyzeOptions a) {
   return 0;
 }
 
+std::string version_text() {
+  unsigned maj = 0, min = 0, rel = 0;
+  H5get_libversion(&maj, &min, &rel);
+  return fmt::format("sable {} ({} build, {} {}, HDF5 {}.{}.{})", SABLE_VERSION, SABLE_BUILD_TYPE,
+#if defined(__clang__)
+                     "clang", __clang_version__,
+#else
+                     "GCC", __VERSION__,
+#endif
+                     maj, min, rel);
+}
+
+// Checks of numeric options, said in words: CLI11's PositiveNumber and NonNegativeNumber print
+// their range as a 309-digit number.
+std::string clipped(const std::string& text) {
+  return text.size() > 40 ? text.substr(0, 40) + "..." : text;
+}
+
+CLI::Validator integer_in(long lo, long hi, const std::string& what) {
+  return CLI::Validator(
+      [=](const std::string& text) -> std::string {
+        long n = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
+        if (ec != std::errc() || end != text.data() + text.size() || n < lo || n > hi)
+          return fmt::format("'{}': expected {} from {} to {}", clipped(text), what, lo, hi);
+        return {};
+      },
+      fmt::format("{}-{}", lo, hi));
+}
+
+CLI::Validator non_negative(const std::string& what) {
+  return CLI::Validator(
+      [=](const std::string& text) -> std::string {
+        double x = 0.0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), x);
+        if (ec != std::errc() || end != text.data() + text.size() || !(x >= 0.0) ||
+            !std::isfinite(x))
+          return fmt::format("'{}': expected {}, a finite number >= 0", clipped(text), what);
+        return {};
+      },
+      ">= 0");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Sable: grain-scale simulation of granular media (DEM)"};
+  CLI::App app{"Sable: grain-scale simulation of granular media (DEM and contact dynamics)"};
+  app.set_version_flag("--version", version_text());
   app.require_subcommand(1);
   std::string file;
   sable::RunOptions opt;
@@ -133,9 +246,15 @@ int main(int argc, char** argv) {
   auto* run = app.add_subcommand("run", "run a scenario (TOML)");
   run->add_option("FILE", file, "scenario file")->required()->check(CLI::ExistingFile);
   run->add_option("--out", opt.out_dir, "output directory (default: [output].dir)");
-  run->add_option("--threads", opt.threads, "OpenMP threads")->check(CLI::PositiveNumber);
+  run->add_option("--threads", opt.threads, "OpenMP threads")
+      ->check(integer_in(1, 4096, "a number of threads"));
   run->add_option("--resume", opt.resume, "resume from this snapshot (.h5)")
       ->check(CLI::ExistingFile);
+  run->add_flag("--overwrite", opt.overwrite,
+                "delete the output folder's outputs of another run (fresh run), or those after "
+                "the resumed step (resume), instead of refusing");
+  run->add_flag("--accept-changes", opt.accept_changes,
+                "resume although the scenario's physics differs from the snapshot's");
   auto* check = app.add_subcommand("check", "validate a scenario and generate its grains, no run");
   check->add_option("FILE", file, "scenario file")->required();
   auto* info = app.add_subcommand("info", "describe a snapshot");
@@ -149,9 +268,9 @@ int main(int argc, char** argv) {
   fc3d->add_option("--local", fc3d_opt.local, "local solver")
       ->check(CLI::IsMember({"bipotential", "exact"}));
   fc3d->add_option("--tolerance", fc3d_opt.tolerance, "natural-map residual to reach")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative("a residual"));
   fc3d->add_option("--max-iterations", fc3d_opt.max_iterations, "NLGS sweeps at most")
-      ->check(CLI::PositiveNumber);
+      ->check(integer_in(1, 1L << 30, "a number of sweeps"));
   fc3d->add_option("--order", fc3d_opt.order, "sweep order")
       ->check(CLI::IsMember({"forward", "alternating", "shuffled"}));
   fc3d->add_option("--relaxation", fc3d_opt.relaxation, "relaxation w, 0 < w < 2");
@@ -160,7 +279,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    return app.exit(e) == 0 ? 0 : kExitInput;
   }
   try {
     if (*run) return cmd_run(file, opt);
@@ -171,13 +290,19 @@ int main(int argc, char** argv) {
     if (*fc3d) return cmd_fc3d(file, fc3d_opt);
   } catch (const sable::InputError& e) {
     std::cerr << "error: " << e.what() << '\n';
-    return 2;
+    return kExitInput;
   } catch (const sable::SimulationError& e) {
     std::cerr << "simulation failed: " << e.what() << '\n';
-    return 1;
+    return kExitFailed;
+  } catch (const sable::IoError& e) {
+    std::cerr << "error: cannot write output: " << e.what() << '\n';
+    return kExitIo;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "error: out of memory\n";
+    return kExitFailed;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << '\n';
-    return 2;
+    return kExitInput;
   }
   return 0;
 }

@@ -5,6 +5,6 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 for f in examples/cd-arrays/*.toml; do
   name=$(basename "$f" .toml)
-  ./build/release/bin/sable run "$f" 2>&1 | grep -E "done|warning" || true
+  ./build/release/bin/sable run "$f" --overwrite 2>&1 | grep -E "done|warning" || true
   /usr/bin/python3 scripts/plot_force_network.py "out/cd-arrays/$name"
 done

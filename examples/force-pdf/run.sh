@@ -50,7 +50,8 @@ run_scenario() {
   mkdir -p "$dir"
   t0=$(date +%s.%N)
   local args=(run "$scenario" --out "$dir" --threads "$threads")
-  if [ -n "$resume" ]; then args+=(--resume "$resume"); fi
+  # Another scenario continues the state (other walls, solver or stages): --accept-changes.
+  if [ -n "$resume" ]; then args+=(--resume "$resume" --accept-changes); fi
   if ! "$SABLE" "${args[@]}" 2> "$dir/run.log"; then
     tail -5 "$dir/run.log" >&2
     exit 1

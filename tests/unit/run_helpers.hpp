@@ -18,6 +18,8 @@ struct QuietRun {
   std::string resume;   // snapshot to resume from, or empty
   bool outputs = true;  // write files (into the scenario's [output].dir)
   int threads = 0;      // 0: OpenMP's default
+  // Resume under a scenario whose physics differs from the snapshot's (--accept-changes).
+  bool accept_changes = false;
 };
 
 inline RunResult run_text(const std::string& text, const QuietRun& how = {}) {
@@ -29,6 +31,7 @@ inline RunResult run_text(const std::string& text, const QuietRun& how = {}) {
   opt.resume = how.resume;
   opt.write_outputs = how.outputs;
   opt.threads = how.threads;
+  opt.accept_changes = how.accept_changes;
   return run_scenario(cfg, opt);
 }
 

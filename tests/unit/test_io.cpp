@@ -640,12 +640,12 @@ TEST_F(IoTest, SnapshotWritesAreAtomic) {
   EXPECT_EQ(sable::load_snapshot(file, r), (RunPosition{0, 5}));
   EXPECT_EQ(sable::state_hash(r), sable::state_hash(w));
 
-  // A directory that does not exist: an InputError naming the file, nothing left behind.
+  // A directory that does not exist: an IoError naming the file, nothing left behind.
   const std::string nowhere = path("no/such/dir/latest.h5");
   try {
     sable::save_snapshot(w, {}, "x", nowhere);
-    ADD_FAILURE() << "expected an InputError";
-  } catch (const InputError& e) {
+    ADD_FAILURE() << "expected an IoError";
+  } catch (const sable::IoError& e) {
     EXPECT_TRUE(contains(e.what(), nowhere));
   }
   EXPECT_TRUE(temporaries().empty());
@@ -668,8 +668,8 @@ TEST_F(IoTest, FailedAtomicWriteKeepsTheOldFile) {
   EXPECT_EQ(read_file(file), "new\n");
   try {
     sable::write_text_atomic(path("missing/x.txt"), "x");
-    ADD_FAILURE() << "expected an InputError";
-  } catch (const InputError& e) {
+    ADD_FAILURE() << "expected an IoError";
+  } catch (const sable::IoError& e) {
     EXPECT_TRUE(contains(e.what(), path("missing/x.txt")));
   }
 }
@@ -716,7 +716,7 @@ TEST_F(IoTest, CsvResumeTruncatesLaterRows) {
   }
   { sable::CsvLog log(path("new.csv"), header, 7); }
   EXPECT_EQ(read_file(path("new.csv")), "step,time_s,kinetic_energy_J\n");
-  EXPECT_THROW(sable::CsvLog(path("no/dir/x.csv"), header), InputError);
+  EXPECT_THROW(sable::CsvLog(path("no/dir/x.csv"), header), sable::IoError);
   EXPECT_TRUE(temporaries().empty());
 }
 

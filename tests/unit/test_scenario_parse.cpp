@@ -428,10 +428,10 @@ TEST(ScenarioParse, BadBoxWall) {
   EXPECT_TRUE(FailsAt(text, line_of(text, "-0.11"), {"wall[1].hi", "axis z"}));
 }
 
-// Guards: time-step settings (dt <= 0, dt_safety outside (0, 1]).
+// Guards: time-step settings (dt <= 0, dt_safety outside (0, kTimeStepError]).
 TEST(ScenarioParse, BadTimeStep) {
   EXPECT_TRUE(RejectsEdit("dt = 1e-5", "dt = 0", {"simulation.dt", "> 0"}));
-  EXPECT_TRUE(RejectsEdit("dt = 1e-5", "dt_safety = 1.5", {"simulation.dt_safety", "(0, 1]"}));
+  EXPECT_TRUE(RejectsEdit("dt = 1e-5", "dt_safety = 1.5", {"simulation.dt_safety", "(0, 0.7]"}));
 }
 
 // Guards: other [simulation] ranges: skin < 0, max_speed <= 0, overlap_warning <= 0.

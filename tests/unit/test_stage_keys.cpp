@@ -101,8 +101,8 @@ TEST(StageKeys, TranslationalEnergyLeavesOutRotation) {
 }
 
 // A run resumed by another scenario takes that scenario's time step (a DEM state continued by
-// CD, say, with its own dt), and says so: 100 steps at 1e-5 s then 50 at 2e-5 s end at
-// t = 2e-3 s (to rounding of 150 additions).
+// CD, say, with its own dt), and says so: 100 steps at 1e-6 s then 50 at 2e-6 s end at
+// t = 2e-4 s (to rounding of 150 additions).
 TEST(StageKeys, ResumeTakesTheScenarioTimeStep) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / "sable_test_resume_dt";
@@ -115,13 +115,14 @@ TEST(StageKeys, ResumeTakesTheScenarioTimeStep) {
            "positions = [[0.5, 0.5, 0.5]]\nvelocity = [0.1, 0, 0]\n" +
            stages + "[output]\ndir = \"" + dir.string() + "\"\nlog_interval = 0\n";
   };
-  test::run_text(text("1e-5", "[[stage]]\nsteps = 100\n"));
+  test::run_text(text("1e-6", "[[stage]]\nsteps = 100\n"));
   test::QuietRun resume;
   resume.resume = (dir / "snapshots" / "end_of_stage_1.h5").string();
   resume.outputs = false;
+  resume.accept_changes = true;  // simulation.dt differs: a change of physics, accepted
   const auto r =
-      test::run_text(text("2e-5", "[[stage]]\nsteps = 100\n[[stage]]\nsteps = 50\n"), resume);
+      test::run_text(text("2e-6", "[[stage]]\nsteps = 100\n[[stage]]\nsteps = 50\n"), resume);
   EXPECT_EQ(r.steps, 150u);
-  EXPECT_NEAR(r.time, 100 * 1e-5 + 50 * 2e-5, 1e-15);
+  EXPECT_NEAR(r.time, 100 * 1e-6 + 50 * 2e-6, 1e-16);
   fs::remove_all(dir);
 }

@@ -115,8 +115,20 @@ void check_options(const AnalyzeOptions& opt) {
   if (opt.width < 0.0) throw InputError(fmt::format("option --width: {} must be > 0", opt.width));
   if (opt.reference_force < 0.0)
     throw InputError(fmt::format("option --reference-force: {} must be >= 0", opt.reference_force));
-  for (const auto& s : opt.snapshots)
-    if (!fs::is_regular_file(s)) throw InputError(fmt::format("{}: no such snapshot file", s));
+  for (const auto& s : opt.snapshots) {
+    std::error_code ec;
+    if (fs::is_directory(s, ec)) {
+      const bool run_dir = fs::is_directory(fs::path(s) / "snapshots", ec);
+      throw InputError(fmt::format(
+          "{}: a folder, expected snapshot files (.h5){}", s,
+          run_dir ? fmt::format(
+                        "; its run's snapshots are in {}/snapshots/, e.g. {}/snapshots/*.h5", s, s)
+                  : ""));
+    }
+    if (!fs::exists(s, ec)) throw InputError(fmt::format("{}: no such snapshot file", s));
+    if (!fs::is_regular_file(s, ec))
+      throw InputError(fmt::format("{}: not a regular file, expected a snapshot (.h5)", s));
+  }
 }
 
 std::string default_out_dir(const AnalyzeOptions& opt) {

@@ -134,7 +134,7 @@ void ResultWriter::write(const std::string& name, const std::string& text) const
           fmt::format("{}: refusing to write an analysis result over an input snapshot", p));
   std::error_code ec;
   std::filesystem::create_directories(std::filesystem::path(p).parent_path(), ec);
-  if (ec) throw InputError(fmt::format("{}: cannot create the directory: {}", p, ec.message()));
+  if (ec) throw IoError(fmt::format("{}: cannot create the directory: {}", p, ec.message()));
   write_text_atomic(p, text);
 }
 

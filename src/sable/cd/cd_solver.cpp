@@ -228,6 +228,14 @@ void CdSolver<D>::step() {
     }
     result_ = cd::solve_nlgs<D>(problem, s_.nlgs, w_.rng);
   }
+  if (!std::isfinite(result_.residual)) {
+    check_grain_states(w_);  // names the first grain the non-finite impulses reached
+    throw SimulationError(fmt::format(
+        "step {}: the contact solver's residual is {} after {} sweeps: a contact's data is not "
+        "finite (two grains at one position, or a mass, radius or position that is not a "
+        "usable number)",
+        w_.step, result_.residual, result_.iterations));
+  }
   store_impulses();
   {
     auto scope = timers_.time(Phase::kIntegrate);

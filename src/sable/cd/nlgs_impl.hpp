@@ -165,6 +165,11 @@ NlgsResult solve_nlgs(Problem& problem, const NlgsSettings& s, Rng& rng) {
       res.converged = true;
       break;
     }
+    // A NaN never falls below the tolerance, and sweeps over non-finite data cost hundreds of
+    // times a normal one: stop, and let the caller report the state (the residual says why).
+    // An infinite sweep criterion (Quad, Maxm) can be a normal event (every U reaching 0 at
+    // once); an infinite natural-map residual cannot.
+    if (std::isnan(res.error) || (error_is_residual && std::isinf(res.error))) break;
   }
   res.residual = error_is_residual ? res.error : natural_map_error<d>(problem);
   if (res.iterations == 0) {  // max_iterations <= 0: report the state as it is

@@ -40,7 +40,7 @@ void commit_atomic(const std::string& tmp, const std::string& final_path) {
   std::filesystem::rename(tmp, final_path, ec);
   if (ec) {
     remove_quietly(tmp);
-    throw InputError(fmt::format("cannot move '{}' to '{}': {}", tmp, final_path, ec.message()));
+    throw IoError(fmt::format("cannot move '{}' to '{}': {}", tmp, final_path, ec.message()));
   }
 }
 
@@ -60,18 +60,18 @@ void write_pieces_atomic(const std::string& path, const std::function<void(const
   write_atomic(path, [&](const std::string& tmp) {
     errno = 0;
     std::unique_ptr<std::FILE, FileCloser> f(std::fopen(tmp.c_str(), "wb"));
-    if (!f) throw InputError(fmt::format("cannot write '{}': {}", path, os_reason(errno)));
+    if (!f) throw IoError(fmt::format("cannot write '{}': {}", path, os_reason(errno)));
     fill([&](const char* data, std::size_t size) {
       errno = 0;
       if (std::fwrite(data, 1, size, f.get()) != size)
-        throw InputError(fmt::format("cannot write '{}': {}", path, os_reason(errno)));
+        throw IoError(fmt::format("cannot write '{}': {}", path, os_reason(errno)));
     });
     errno = 0;
     if (std::fflush(f.get()) != 0)
-      throw InputError(fmt::format("cannot write '{}': {}", path, os_reason(errno)));
+      throw IoError(fmt::format("cannot write '{}': {}", path, os_reason(errno)));
     errno = 0;
     if (std::fclose(f.release()) != 0)
-      throw InputError(fmt::format("cannot write '{}': {}", path, os_reason(errno)));
+      throw IoError(fmt::format("cannot write '{}': {}", path, os_reason(errno)));
   });
 }
 

@@ -16,7 +16,7 @@ namespace sable {
 std::string atomic_temp_path(const std::string& path);
 
 // Move a finished temporary over its final name (replacing any existing file). On failure the
-// temporary is removed and an InputError names both paths and the OS reason.
+// temporary is removed and an IoError names both paths and the OS reason.
 void commit_atomic(const std::string& tmp, const std::string& final_path);
 
 // Write `path` atomically: `write` fills the temporary it is given; if it throws, the temporary

@@ -55,12 +55,12 @@ CsvLog::CsvLog(std::string path, std::vector<std::string> header,
   errno = 0;
   file_.reset(std::fopen(path_.c_str(), resume ? "ab" : "wb"));
   if (!file_) {
-    throw InputError(fmt::format("cannot open CSV log '{}': {}", path_, os_reason()));
+    throw IoError(fmt::format("cannot open CSV log '{}': {}", path_, os_reason()));
   }
   if (!resume) {
     const std::string line = join(header_) + "\n";
     if (std::fputs(line.c_str(), file_.get()) < 0 || std::fflush(file_.get()) != 0)
-      throw InputError(fmt::format("cannot write CSV log '{}': {}", path_, os_reason()));
+      throw IoError(fmt::format("cannot write CSV log '{}': {}", path_, os_reason()));
   }
 }
 
@@ -106,7 +106,7 @@ void CsvLog::row(const std::vector<double>& values) {
   b.push_back('\n');
   errno = 0;
   if (std::fwrite(b.data(), 1, b.size(), file_.get()) != b.size() || std::fflush(file_.get()) != 0)
-    throw InputError(fmt::format("cannot write CSV log '{}': {}", path_, os_reason()));
+    throw IoError(fmt::format("cannot write CSV log '{}': {}", path_, os_reason()));
 }
 
 }  // namespace sable

@@ -128,6 +128,7 @@ std::string error_detail() {
 }
 
 void File::fail(const std::string& what) const {
+  if (writing_) throw IoError(label_ + ": " + what);
   throw InputError(label_ + ": " + what);
 }
 
@@ -135,8 +136,8 @@ File File::create(const std::string& path, const std::string& label) {
   silence_errors();
   Id fapl = access_plist();
   Id f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose);
-  if (!f.valid()) throw InputError(fmt::format("{}: cannot create: {}", label, error_detail()));
-  return File(std::move(f), label);
+  if (!f.valid()) throw IoError(fmt::format("{}: cannot create: {}", label, error_detail()));
+  return File(std::move(f), label, true);
 }
 
 File File::open(const std::string& path, const std::string& label, bool writable) {
@@ -155,7 +156,7 @@ File File::open(const std::string& path, const std::string& label, bool writable
     throw InputError(fmt::format("{}: cannot open as HDF5 (damaged or truncated file?): {}", label,
                                  error_detail()));
   }
-  return File(std::move(f), label);
+  return File(std::move(f), label, writable);
 }
 
 void File::close() {

@@ -88,6 +88,7 @@ class File {
   void close();
   hid_t id() const { return file_.get(); }
   const std::string& label() const { return label_; }
+  // Throws with the label: an IoError for a file being written, an InputError for one read.
   [[noreturn]] void fail(const std::string& what) const;
 
   // --- writing (missing intermediate groups are created)
@@ -134,7 +135,8 @@ class File {
   std::string read_attr_string(const std::string& obj, const std::string& name) const;
 
  private:
-  File(Id file, std::string label) : file_(std::move(file)), label_(std::move(label)) {}
+  File(Id file, std::string label, bool writing)
+      : file_(std::move(file)), label_(std::move(label)), writing_(writing) {}
   void write_raw(const std::string& dset, hid_t type, const void* data, hsize_t rows, hsize_t cols);
   void write_attr_raw(const std::string& obj, const std::string& name, hid_t type,
                       const void* value);
@@ -148,6 +150,7 @@ class File {
 
   Id file_;
   std::string label_;
+  bool writing_;  // created by create(): a failure is an IoError, not bad input
 };
 
 }  // namespace sable::h5

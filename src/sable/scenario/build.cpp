@@ -10,6 +10,7 @@
 #include "sable/core/error.hpp"
 #include "sable/dem/dem_solver.hpp"
 #include "sable/generation/generate.hpp"
+#include "sable/scenario/initial_state.hpp"
 
 namespace sable {
 namespace {
@@ -97,6 +98,27 @@ void build_model(const ScenarioConfig& cfg, World<D>& w) {
   w.neighbors.domain_hi = S::from_array(cfg.domain.hi);
 }
 
+namespace {
+
+// Every grain needs a finite, positive mass and moment of inertia, and finite inverses: a
+// density of 1e-310 kg/m^3 passes "> 0" but gives an infinite inverse mass.
+template <int D>
+void check_masses(const ScenarioConfig& cfg, const World<D>& w) {
+  const auto& p = w.particles;
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const bool ok = std::isfinite(p.mass[k]) && p.mass[k] >= std::numeric_limits<double>::min() &&
+                    std::isfinite(p.inv_mass[k]) && std::isfinite(p.inv_inertia[k]);
+    if (!ok)
+      throw InputError(fmt::format(
+          "{}: material '{}' (density {} kg/m^3) gives grain id {} of radius {} m the mass {} "
+          "kg, which is not a usable number; check the density and the radius",
+          cfg.path, w.materials[p.material[k]].name, w.materials[p.material[k]].density,
+          p.id[k].index, p.radius[k], p.mass[k]));
+  }
+}
+
+}  // namespace
+
 template <int D>
 void build_grains(const ScenarioConfig& cfg, World<D>& w) {
   using S = Space<D>;
@@ -114,8 +136,10 @@ void build_grains(const ScenarioConfig& cfg, World<D>& w) {
     }
     all.insert(all.end(), seeds.begin(), seeds.end());
   }
+  check_masses(cfg, w);
   w.neighbors.skin = scenario_skin(cfg, w);
   w.dt = scenario_time_step(cfg, w);
+  check_initial_state(cfg, w);
 }
 
 template <int D>
@@ -131,7 +155,7 @@ double scenario_skin(const ScenarioConfig& cfg, const World<D>& w) {
 }
 
 template <int D>
-double automatic_time_step(const ScenarioConfig& cfg, const World<D>& w) {
+double critical_time(const World<D>& w) {
   const auto& p = w.particles;
   double t_crit = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < p.size(); ++k) {
@@ -147,10 +171,43 @@ double automatic_time_step(const ScenarioConfig& cfg, const World<D>& w) {
       t_crit = std::min(t_crit, std::sqrt(0.5 * p.mass[k] / std::max(w.model.kn, w.model.kt)));
     }
   }
-  if (!std::isfinite(t_crit))
+  return t_crit;
+}
+
+template <int D>
+double automatic_time_step(const ScenarioConfig& cfg, const World<D>& w) {
+  const double t_crit = critical_time(w);
+  if (w.particles.size() == 0)
     throw InputError(
         fmt::format("{}: simulation.dt is required when the scenario has no grains", cfg.path));
-  return cfg.sim.dt_safety * t_crit;
+  const double dt = cfg.sim.dt_safety * t_crit;
+  if (!(std::isfinite(dt) && dt >= std::numeric_limits<double>::min()))
+    throw InputError(fmt::format(
+        "{}: the automatic time step is {} s (critical time {} s): the materials' density, "
+        "young and poisson give no usable time step; check them, or set simulation.dt",
+        cfg.path, dt, t_crit));
+  return dt;
+}
+
+template <int D>
+std::optional<std::string> check_time_step(const ScenarioConfig& cfg, const World<D>& w) {
+  if (cfg.sim.solver == "cd" || w.particles.size() == 0) return std::nullopt;  // no stiffness
+  const double ratio = w.dt / critical_time(w);
+  const char* crit = w.model.normal == NormalModel::kHertz ? "the Rayleigh time" : "sqrt(m / 2k)";
+  if (ratio > kTimeStepError)
+    throw InputError(fmt::format(
+        "{}: simulation.dt = {:.4g} s is {:.3g} times {} of the smallest grain ({:.4g} s); above "
+        "{} times the explicit integration is unstable or its contacts badly wrong: choose dt "
+        "<= {:.4g} s (the automatic dt is {} of it)",
+        cfg.path, w.dt, ratio, crit, w.dt / ratio, kTimeStepError, kTimeStepWarning * w.dt / ratio,
+        cfg.sim.dt_safety));
+  if (ratio > kTimeStepWarning)
+    return fmt::format(
+        "simulation.dt = {:.4g} s is {:.3g} times {} of the smallest grain ({:.4g} s); above {} "
+        "times a collision's restitution strays by up to 20 % from the material's (docs/"
+        "contact-laws.md, \"Time step\"); the automatic dt is {} of it",
+        w.dt, ratio, crit, w.dt / ratio, kTimeStepWarning, cfg.sim.dt_safety);
+  return std::nullopt;
 }
 
 template <int D>
@@ -198,6 +255,8 @@ template double scenario_skin<2>(const ScenarioConfig&, const World<2>&);
 template double scenario_skin<3>(const ScenarioConfig&, const World<3>&);
 template double automatic_time_step<2>(const ScenarioConfig&, const World<2>&);
 template double automatic_time_step<3>(const ScenarioConfig&, const World<3>&);
+template std::optional<std::string> check_time_step<2>(const ScenarioConfig&, const World<2>&);
+template std::optional<std::string> check_time_step<3>(const ScenarioConfig&, const World<3>&);
 template std::vector<std::size_t> walls_named<2>(const World<2>&, const std::string&);
 template std::vector<std::size_t> walls_named<3>(const World<3>&, const std::string&);
 

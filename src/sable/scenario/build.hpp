@@ -4,6 +4,8 @@
 #pragma once
 
 #include <memory>
+#include <optional>
+#include <string>
 
 #include "sable/scenario/config.hpp"
 #include "sable/world/solver.hpp"
@@ -15,7 +17,8 @@ namespace sable {
 template <int D>
 void build_model(const ScenarioConfig& cfg, World<D>& world);
 
-// Generate and add the grains of every [[grains]] block.
+// Generate and add the grains of every [[grains]] block, and check the state they start in
+// (scenario/initial_state.hpp) and their masses: InputError if it is not one to start from.
 template <int D>
 void build_grains(const ScenarioConfig& cfg, World<D>& world);
 
@@ -23,6 +26,12 @@ void build_grains(const ScenarioConfig& cfg, World<D>& world);
 // times sqrt(m/kn) of the lightest grain (linear law). Explained in docs/contact-laws.md.
 template <int D>
 double automatic_time_step(const ScenarioConfig& cfg, const World<D>& world);
+
+// The DEM time step against the bounds kTimeStepWarning and kTimeStepError (config.hpp) times
+// the critical time of automatic_time_step (dt_safety = 1): an InputError above the second,
+// a warning to print above the first. Contact dynamics has no such bound (rigid grains).
+template <int D>
+std::optional<std::string> check_time_step(const ScenarioConfig& cfg, const World<D>& world);
 
 // The time step and neighbour skin the scenario asks for the world's grains: simulation.dt
 // (else the automatic one) and simulation.skin (else half the largest radius). Used when the

@@ -38,7 +38,8 @@ SimulationConfig parse_simulation(const Table& root) {
   const auto t = root.table("simulation");
   if (!t) return sim;
   t->check_keys({"dimension", "solver", "seed", "dt", "dt_safety", "gravity", "thickness", "skin",
-                 "overlap_warning", "max_speed", "track_orientation", "reorder_every"});
+                 "overlap_warning", "initial_overlap", "max_speed", "track_orientation",
+                 "reorder_every"});
   if (const toml::node* dim = t->find("dimension")) {
     const auto* value = dim->as_integer();
     if (value == nullptr || (value->get() != 2 && value->get() != 3)) {
@@ -49,12 +50,14 @@ SimulationConfig parse_simulation(const Table& root) {
   sim.solver = t->choice("solver", {"dem", "cd"}, "dem");
   sim.seed = t->unsigned_or("seed", sim.seed);
   sim.dt = t->number("dt", kPositive);
-  sim.dt_safety = t->number_or("dt_safety", Range{0.0, 1.0, true, false}, sim.dt_safety);
+  sim.dt_safety = t->number_or("dt_safety", Range{0.0, kTimeStepError, true, false}, sim.dt_safety);
   sim.gravity = t->vector("gravity", sim.dimension).value_or(sim.gravity);
   if (sim.dimension == 3) t->reject("thickness", "in 3D: thickness applies to 2D only");
   sim.thickness = t->number_or("thickness", kPositive, sim.thickness);
   sim.skin = t->number("skin", kNonNegative);
   sim.overlap_warning = t->number_or("overlap_warning", kPositive, sim.overlap_warning);
+  sim.initial_overlap =
+      t->number_or("initial_overlap", Range{0.0, 1.0, false, true}, sim.initial_overlap);
   sim.max_speed = t->number_or("max_speed", kPositive, sim.max_speed);
   sim.track_orientation = t->boolean_or("track_orientation", sim.track_orientation);
   if (const toml::node* r = t->find("reorder_every")) {
@@ -106,6 +109,8 @@ MaterialConfig parse_material(const Table& t, bool rigid_grains) {
   }
   m.restitution = t.number_or("restitution", kRestitution, 1.0);
   m.friction = t.number_or("friction", kNonNegative, 0.0);
+  mc.restitution_given = t.has("restitution");
+  mc.friction_given = t.has("friction");
   m.rolling_friction = t.number_or("rolling_friction", kNonNegative, 0.0);
   mc.loc = t.loc();
   return mc;
@@ -717,6 +722,7 @@ ScenarioConfig parse_scenario(const std::string& text, const std::string& path) 
                                 "has no cohesion yet");
   check_rolling(root, cfg);
   cfg.output = parse_output(root);
+  cfg.warnings = scenario_warnings(cfg);
   return cfg;
 }
 

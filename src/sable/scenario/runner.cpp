@@ -16,7 +16,9 @@
 #include "sable/loading/box_state.hpp"
 #include "sable/loading/servo.hpp"
 #include "sable/scenario/build.hpp"
+#include "sable/scenario/output_folder.hpp"
 #include "sable/scenario/progress.hpp"
+#include "sable/scenario/resume_changes.hpp"
 
 namespace sable {
 namespace {
@@ -60,6 +62,7 @@ class Runner {
 
  private:
   void setup();
+  void check_changes(const std::string& snapshot_text);
   void adopt_scenario_steps();
   void open_outputs(bool resuming);
   void start_stage();
@@ -70,6 +73,8 @@ class Runner {
   void write_frame();
   void write_snapshot(const std::string& file);
   void write_csv_row();
+  RunResult result(std::chrono::steady_clock::time_point t0) const;
+  RunResult interrupted(std::chrono::steady_clock::time_point t0);
   ProgressSample sample() const;
   // Wall clock and phase timers at the start of a stage, for its summary line.
   struct StageClock {
@@ -100,6 +105,7 @@ class Runner {
 
 template <int D>
 void Runner<D>::setup() {
+  for (const auto& w : cfg_.warnings) progress_.message("warning: " + w);
   build_model(cfg_, world_);
   if (opt_.resume.empty()) {
     build_grains(cfg_, world_);
@@ -110,14 +116,39 @@ void Runner<D>::setup() {
     if (pos_.stage >= cfg_.stages.size())
       throw InputError(fmt::format("{}: snapshot is at stage {} but {} has only {} stages",
                                    opt_.resume, pos_.stage + 1, cfg_.path, cfg_.stages.size()));
-    if (text != cfg_.text)
-      progress_.message(
-          fmt::format("warning: {} was written by a different scenario text than "
-                      "{}; resuming with the new stages and outputs",
-                      opt_.resume, cfg_.path));
+    if (text != cfg_.text) check_changes(text);
     adopt_scenario_steps();
   }
+  if (const auto w = check_time_step(cfg_, world_)) progress_.message("warning: " + *w);
   if (opt_.write_outputs) open_outputs(!opt_.resume.empty());
+}
+
+// A resume under another scenario text: [output] and [[stage]] may differ; any other change
+// is refused unless accepted, and then reported key by key (scenario/resume_changes.hpp).
+template <int D>
+void Runner<D>::check_changes(const std::string& snapshot_text) {
+  const auto changes =
+      scenario_changes(snapshot_text, opt_.resume + " (its scenario)", cfg_.text, cfg_.path);
+  if (changes.empty()) {
+    progress_.message(fmt::format(
+        "{} was written by another version of {}: only [output] and [[stage]] differ; resuming "
+        "with the new stages and outputs",
+        opt_.resume, cfg_.path));
+    return;
+  }
+  if (!opt_.accept_changes)
+    throw InputError(fmt::format(
+        "{} was written by a scenario whose physics differs from {}: {}; a resume continues the "
+        "snapshot's state, and some of these cannot apply to it (docs/reliability.md, "
+        "\"Resuming\"): give --accept-changes to resume anyway, each change reported",
+        opt_.resume, cfg_.path, describe_changes(changes)));
+  std::vector<ScenarioChange> applied, kept;
+  for (const auto& c : changes) (c.kept_because.empty() ? applied : kept).push_back(c);
+  if (!applied.empty())
+    progress_.message("--accept-changes: applied: " + describe_changes(applied));
+  for (const auto& c : kept)
+    progress_.message(fmt::format("--accept-changes: not applied, {}: {} ({} -> {})",
+                                  c.kept_because, c.key, c.before, c.after));
 }
 
 // A resumed run takes its time step and neighbour skin from the scenario, not the snapshot:
@@ -142,8 +173,16 @@ void Runner<D>::adopt_scenario_steps() {
 
 template <int D>
 void Runner<D>::open_outputs(bool resuming) {
-  fs::create_directories(out_ / "vtk");
-  fs::create_directories(out_ / "snapshots");
+  OutputFolderRequest req{out_.string(), std::nullopt, opt_.resume, opt_.overwrite};
+  if (resuming) req.resume_step = world_.step;
+  prepare_output_folder(req, [this](const std::string& m) { progress_.message(m); });
+  for (const char* sub : {"vtk", "snapshots"}) {
+    std::error_code ec;
+    fs::create_directories(out_ / sub, ec);
+    if (ec)
+      throw IoError(fmt::format("cannot create the output folder '{}': {}", (out_ / sub).string(),
+                                ec.message()));
+  }
   std::vector<std::string> cols{"step",
                                 "time_s",
                                 "kinetic_energy_J",
@@ -168,9 +207,16 @@ void Runner<D>::open_outputs(bool resuming) {
   }
   csv_.emplace((out_ / "series.csv").string(), cols,
                resuming ? std::optional<std::uint64_t>(world_.step) : std::nullopt);
-  grains_pvd_.emplace((out_ / "grains.pvd").string());
-  contacts_pvd_.emplace((out_ / "contacts.pvd").string());
-  walls_pvd_.emplace((out_ / "walls.pvd").string());
+  // A resumed series keeps its frames up to the resume point.
+  for (auto [pvd, name] : {std::pair{&grains_pvd_, "grains.pvd"},
+                           {&contacts_pvd_, "contacts.pvd"},
+                           {&walls_pvd_, "walls.pvd"}}) {
+    const std::string path = (out_ / name).string();
+    if (resuming)
+      pvd->emplace(path, world_.time);
+    else
+      pvd->emplace(path);
+  }
   if (!resuming) {
     write_frame();
     write_csv_row();
@@ -379,6 +425,7 @@ RunResult Runner<D>::run() {
         solver_->step();
         ++pos_.stage_step;
         after_step();
+        if (opt_.stop && *opt_.stop != 0) return interrupted(t0);
       }
       progress_.report(sample());
       progress_.message(stage_summary(clock));
@@ -397,6 +444,11 @@ RunResult Runner<D>::run() {
     }
     throw;
   }
+  return result(t0);
+}
+
+template <int D>
+RunResult Runner<D>::result(std::chrono::steady_clock::time_point t0) const {
   RunResult r;
   r.steps = world_.step;
   r.time = world_.time;
@@ -407,14 +459,32 @@ RunResult Runner<D>::run() {
   return r;
 }
 
+// A signal asked the run to stop: the step is complete, so the state is consistent; it is
+// written like any snapshot (atomically), and a resume from it continues bit for bit.
+template <int D>
+RunResult Runner<D>::interrupted(std::chrono::steady_clock::time_point t0) {
+  progress_.finish_line();
+  RunResult r = result(t0);
+  r.interrupted_by = static_cast<int>(*opt_.stop);
+  if (opt_.write_outputs) {
+    const std::string file = fmt::format("interrupted_step_{:010d}.h5", world_.step);
+    write_snapshot(file);
+    r.last_snapshot = (out_ / "snapshots" / file).string();
+  }
+  return r;
+}
+
 template <int D>
 std::string describe(const ScenarioConfig& cfg) {
   World<D> w;
   build_model(cfg, w);
   build_grains(cfg, w);
-  return fmt::format("{}: {}D, {} grains, {} walls, {} materials, {} stages, dt = {:.4g} s{}",
+  std::string warnings;
+  for (const auto& m : cfg.warnings) warnings += "\nwarning: " + m;
+  if (const auto m = check_time_step(cfg, w)) warnings += "\nwarning: " + *m;
+  return fmt::format("{}: {}D, {} grains, {} walls, {} materials, {} stages, dt = {:.4g} s{}{}",
                      cfg.path, D, w.particles.size(), w.walls.size(), w.materials.size(),
-                     cfg.stages.size(), w.dt, cfg.sim.dt ? "" : " (automatic)");
+                     cfg.stages.size(), w.dt, cfg.sim.dt ? "" : " (automatic)", warnings);
 }
 
 }  // namespace

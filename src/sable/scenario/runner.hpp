@@ -3,6 +3,7 @@
 // what to write.
 #pragma once
 
+#include <csignal>
 #include <cstdint>
 #include <iostream>
 #include <optional>
@@ -19,6 +20,12 @@ struct RunOptions {
   std::ostream* log = &std::cerr;
   std::optional<bool> live_progress;  // default: when the log is a terminal
   bool write_outputs = true;          // false: no files at all (tests, `sable check`)
+  // Output folder and resume rules (scenario/output_folder.hpp, scenario/resume_changes.hpp).
+  bool overwrite = false;       // delete the folder's conflicting outputs instead of refusing
+  bool accept_changes = false;  // resume although the scenario's physics changed
+  // Set (to a signal number) by a signal handler: the run stops after the current step,
+  // writes snapshots/interrupted_step_N.h5 and returns with RunResult::interrupted_by set.
+  const volatile std::sig_atomic_t* stop = nullptr;
 };
 
 struct RunResult {
@@ -28,6 +35,8 @@ struct RunResult {
   std::size_t grains = 0;
   double kinetic_energy = 0.0;
   double wall_seconds = 0.0;
+  int interrupted_by = 0;     // the signal that stopped the run early, 0 if it ran to the end
+  std::string last_snapshot;  // the snapshot written when it stopped (interrupted runs)
 };
 
 RunResult run_scenario(const ScenarioConfig& cfg, const RunOptions& opt);
