@@ -250,8 +250,8 @@ TEST_P(RunDim, RollingAndPlainSnapshotsResumeEachOther) {
   EXPECT_FALSE(dropped.rolling);
   EXPECT_GT(dropped.entries, 100u);
   EXPECT_EQ(dropped.springs, 0u);
-  const auto to_plain = sable::test::run_text(
-      bed_scenario(dim, (dir / "to_plain").string(), false), {rolling_snap.string(), true, 0, true});
+  const auto to_plain = sable::test::run_text(bed_scenario(dim, (dir / "to_plain").string(), false),
+                                              {rolling_snap.string(), true, 0, true});
   EXPECT_EQ(to_plain.steps, 600u);
   EXPECT_FALSE(has_springs(dir / "to_plain" / "snapshots" / "end_of_stage_2.h5"));
   fs::remove_all(dir);

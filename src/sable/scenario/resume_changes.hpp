@@ -2,7 +2,8 @@
 //
 // A snapshot stores the scenario text it was written by. A resume with another text compares
 // the two key by key. [output], [[stage]] and simulation.reorder_every may change freely:
-// they are the run's programme and its storage order, not its physics. Any other difference is refused unless the user accepts it
+// they are the run's programme and its storage order, not its physics. Any other difference is
+// refused unless the user accepts it
 // (`--accept-changes`), and then each changed key either applies (the model is rebuilt from
 // the new scenario: materials' stiffness and friction, the contact law, the solver, the time
 // step, gravity, ...) or cannot apply, because the snapshot carries that part of the state:
