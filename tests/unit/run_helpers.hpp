@@ -20,6 +20,9 @@ struct QuietRun {
   int threads = 0;      // 0: OpenMP's default
   // Resume under a scenario whose physics differs from the snapshot's (--accept-changes).
   bool accept_changes = false;
+  // Delete the folder's outputs that conflict with this run (--overwrite): a resume into the
+  // folder of the run it continues meets that run's later snapshots.
+  bool overwrite = false;
 };
 
 inline RunResult run_text(const std::string& text, const QuietRun& how = {}) {
@@ -32,6 +35,7 @@ inline RunResult run_text(const std::string& text, const QuietRun& how = {}) {
   opt.write_outputs = how.outputs;
   opt.threads = how.threads;
   opt.accept_changes = how.accept_changes;
+  opt.overwrite = how.overwrite;
   return run_scenario(cfg, opt);
 }
 

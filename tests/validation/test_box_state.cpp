@@ -97,7 +97,8 @@ TEST(BoxState, ResumedRunReportsTheSameStrain) {
   const std::string text = lid_run(dir.string());
   sable::test::run_text(text, {"", true, 1});
   const std::string full = slurp(dir / "series.csv");
-  sable::test::run_text(text, {(dir / "snapshots" / "step_0000000500.h5").string(), true, 1});
+  sable::test::run_text(
+      text, {(dir / "snapshots" / "step_0000000500.h5").string(), true, 1, false, true});
   EXPECT_EQ(slurp(dir / "series.csv"), full);
   fs::remove_all(dir);
 }

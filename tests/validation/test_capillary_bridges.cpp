@@ -218,6 +218,7 @@ TEST(CapillaryBridges, WetPackingConservesLiquidAndResumesBitIdentical) {
 
   test::QuietRun resume = one;
   resume.resume = (dir / "snapshots" / "step_0000010000.h5").string();
+  resume.overwrite = true;  // the full run's later snapshots are in the folder
   const auto resumed = test::run_text(text, resume);
   EXPECT_EQ(resumed.state_hash, full.state_hash);
   // Bridge events are flagged in the parallel pass and applied in list order: the thread count

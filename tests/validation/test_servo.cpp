@@ -58,8 +58,8 @@ TEST(ServoWalls, ResumeMidStageIsBitIdentical) {
   text.replace(text.find("csv_interval = 0"), 16, "csv_interval = 0\nsnapshot_interval = 2000");
   const auto full = sable::test::run_text(text);
   ASSERT_GT(full.steps, 4000u);
-  const auto resumed =
-      sable::test::run_text(text, {(dir / "snapshots" / "step_0000002000.h5").string(), true, 0});
+  const auto resumed = sable::test::run_text(
+      text, {(dir / "snapshots" / "step_0000002000.h5").string(), true, 0, false, true});
   EXPECT_EQ(resumed.steps, full.steps);
   EXPECT_EQ(resumed.state_hash, full.state_hash);
   fs::remove_all(dir);

@@ -174,8 +174,8 @@ TEST(ServoCd, ResumeMidStageIsBitIdentical) {
   text.replace(text.find("csv_interval = 0"), 16, "csv_interval = 0\nsnapshot_interval = 150");
   const auto full = test::run_text(text);
   ASSERT_GT(full.steps, 150u);
-  const auto resumed =
-      test::run_text(text, {(dir / "snapshots" / "step_0000000150.h5").string(), true, 0});
+  const auto resumed = test::run_text(
+      text, {(dir / "snapshots" / "step_0000000150.h5").string(), true, 0, false, true});
   EXPECT_EQ(resumed.steps, full.steps);
   EXPECT_EQ(resumed.state_hash, full.state_hash);
   fs::remove_all(dir);

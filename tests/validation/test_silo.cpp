@@ -78,6 +78,7 @@ void run_all(const std::vector<Case>& cases) {
                             std::sregex_iterator()),
               1)
         << c.name << ": expected one line 'seed = N' (the scenario's [simulation] seed)";
+    fs::remove_all(c.dir);  // a run refuses a folder that holds another run's outputs
     fs::create_directories(c.dir);
     for (const std::uint64_t seed : c.seeds) {
       const fs::path run = c.dir / ("seed-" + std::to_string(seed));
