@@ -39,15 +39,20 @@ inline RunResult run_text(const std::string& text, const QuietRun& how = {}) {
   return run_scenario(cfg, opt);
 }
 
+// The whole text of a file ("" if it cannot be read).
+inline std::string slurp(const std::filesystem::path& path) {
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
 // Run the `sable` executable with `args`, its stdout and stderr into `log`; returns its exit
 // status and puts what it printed in `output`.
 inline int run_cli(const std::string& args, const std::filesystem::path& log, std::string& output) {
   const std::string cmd = std::string(SABLE_CLI) + " " + args + " > " + log.string() + " 2>&1";
   const int status = std::system(cmd.c_str());
-  std::ifstream f(log);
-  std::stringstream s;
-  s << f.rdbuf();
-  output = s.str();
+  output = slurp(log);
   return WEXITSTATUS(status);
 }
 

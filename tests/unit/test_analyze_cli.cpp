@@ -24,10 +24,7 @@ fs::path temp_dir(const std::string& name) {
 }
 
 std::string read(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
+  return sable::test::slurp(p);
 }
 
 // A small 3D box of grains settling under gravity (DEM or CD), snapshots at the stage ends.

@@ -41,10 +41,7 @@ fs::path fresh_dir(const std::string& name) {
 }
 
 std::string read(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
+  return sable::test::slurp(p);
 }
 
 bool has(const std::string& s, const std::string& part) {
