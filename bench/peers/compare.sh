@@ -122,7 +122,7 @@ for rep in $(seq 1 "$REPEATS"); do
   # back to back: repeat 1 runs L1 S1 S2 L2, repeat 2 L2 S2 S1 L1, and so on (L = LIGGGHTS,
   # S = Sable, the digit the cores). Each code's speed at one core count is timed next to the
   # other's, and Sable's two threads next to its one thread: the VM's speed drifts by 10-50 %
-  # over minutes, and in the order used until the nineteenth session (L1 S1 S2 L2, then
+  # over minutes, and in the order used before this one (L1 S1 S2 L2, then
   # S1 L1 L2 S2) every other repeat had S1 and S2 two LIGGGHTS runs apart.
   # Who goes first at a core count alternates between repeats.
   seq_cores=$CORES

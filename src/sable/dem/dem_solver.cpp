@@ -159,8 +159,8 @@ void DemSolver<D>::prepare_rolling(bool wet) {
 // What the grain-pair passes read and write, as raw pointers and plain copies taken once per
 // pass. Reached through `this` and std::vector instead, every store of a force (Eigen's SSE
 // stores may alias anything) makes the compiler fetch each array's address again: 4 % more
-// instructions in the pass (cachegrind, docs/BENCHMARKS.md). Each thread works on its own
-// copy (firstprivate).
+// instructions in the pass (cachegrind; docs/BENCHMARKS.md, "The DEM step's design"). Each
+// thread works on its own copy (firstprivate).
 template <int D>
 struct DemSolver<D>::PairPass {
   using S = Space<D>;
@@ -294,7 +294,7 @@ struct DemSolver<D>::PairPass {
   // The dry pass over near-list entries [m0, m1) (see pair_forces). Flattened: left to its
   // heuristics, GCC keeps some of Eigen's vector operations out of line here once the
   // translation unit holds a little more code, and the pass then takes 14 % more instructions
-  // (cachegrind, docs/BENCHMARKS.md).
+  // (cachegrind; docs/BENCHMARKS.md, "The DEM step's design").
   template <class Normal, Sum How, bool Roll>
   [[gnu::flatten]] void entries(const std::uint32_t* near, std::uint32_t m0, std::uint32_t m1,
                                 double& max_ratio, std::size_t& touching) const {
@@ -316,7 +316,7 @@ struct DemSolver<D>::PairPass {
   // touching entries of each stretch of the list go into lanes, their forces are computed as
   // one batch in SIMD registers (contact/contact_lanes.hpp), then stored and added to the
   // grains one by one in list order, as entries() does: the same bits, and a quarter less
-  // time in the pass (docs/BENCHMARKS.md, thirteenth session).
+  // time in the pass (docs/BENCHMARKS.md, "The DEM step's design").
   template <Sum How>
   [[gnu::flatten]] void entries_in_lanes(const std::uint32_t* near, std::uint32_t m0,
                                          std::uint32_t m1, double& max_ratio,
@@ -430,15 +430,15 @@ typename DemSolver<D>::PairPass DemSolver<D>::pair_pass() {
 // whose first member is smaller, then first-member ones), so the sums are the same bits for
 // any number of threads. Only the grains another block's entries reach (flagged kGathered
 // by update_split(); none on one thread, a few % on two) are left to the gather. Gathering
-// every grain's sum afterwards cost 15 % of the step (perf, docs/BENCHMARKS.md). The blocks
-// and flags change only between passes (update_split(): after a near-list remake, or when
-// the threads' speeds move the cut).
+// every grain's sum afterwards took 17 % of a one-thread profile (perf; docs/BENCHMARKS.md,
+// "The DEM step's design"). The blocks and flags change only between passes
+// (update_split(): after a near-list remake, or when the threads' speeds move the cut).
 //
 // The closing (walls, sums, half kick by h_kick, check: close_run()) follows every
 // kCloseChunk grains: an entry (i, j) has i < j, so once the pass is past grain g nothing
 // in it adds to g or reads it again, and g's data are still in the caches. A separate loop
 // over the grains read them all again, and on two threads read lines the other core had
-// written (docs/BENCHMARKS.md, twenty-fifth session).
+// written (docs/BENCHMARKS.md, "The DEM step's design").
 //
 // The last kPairTail of each block's work (its tail) is shared (dem/grain_split.hpp): the
 // block's thread takes it from the front, in chunks, adding and closing as before; a thread
@@ -525,7 +525,7 @@ bool DemSolver<D>::pair_forces(double h_kick) {
 // it. Each block gets its share of the work: its near-list entries, plus one per grain
 // (own() clears each grain's sums). Cut by entries alone, a bed whose contacts sit in a few
 // grains (a fall, where only the landed layers touch) gave one thread nearly every grain: two
-// threads took longer than one (docs/BENCHMARKS.md, thirteenth session). Then the flags: a
+// threads took longer than one (docs/BENCHMARKS.md, "The DEM step's design"). Then the flags: a
 // grain is kGathered when it is the second member of an entry whose first member is in an
 // earlier block (its first such entry has the smallest first member): that block's thread
 // would add to it, in a race and out of order; kInTail for the grains of a block's shared

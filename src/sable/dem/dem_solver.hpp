@@ -66,7 +66,7 @@ class DemSolver final : public Solver {
   static constexpr std::ptrdiff_t kMinParallelItems = 2048;
   // The pair pass shares the last kPairTail of each block's work in chunks of kPairChunk
   // grains (a few us each) (see pair_forces): enough to absorb the few-% step-to-step
-  // wander of a thread's speed (docs/BENCHMARKS.md, twenty-first and twenty-fifth sessions).
+  // wander of a thread's speed (docs/BENCHMARKS.md, "The DEM step's design").
   static constexpr double kPairTail = 0.05;
   static constexpr std::uint32_t kPairChunk = 64;
   // The dry pass closes its own grains every kCloseChunk grains (their data still in the

@@ -155,8 +155,8 @@ bool DemSolver<D>::finish(double h_kick) {
       // its kicks and checks. Each grain's operations keep their order (a wall contact reads
       // only its own grain, whose kick comes after either way): the same bits as one loop
       // doing all three per grain. But that loop called wall_contact() and carried the
-      // gather's loops, and the compiler kept its pointers on the stack: 10-15 % slower
-      // (docs/BENCHMARKS.md, twenty-fourth session).
+      // gather's loops, and the compiler kept its pointers on the stack; the three runs take
+      // 7-13 % less time (docs/BENCHMARKS.md, "The DEM step's design").
       wall_run<Normal>(static_cast<std::uint32_t>(g0), static_cast<std::uint32_t>(g1), max_ratio,
                        touching);
       const GrainPass c = pass;  // local to the chunk: in registers (see kick_drift)

@@ -7,8 +7,8 @@
 //
 // Why measured: the threads of a run do not all run at one speed. On the project's 2-vCPU VM
 // a thread pinned to one vCPU took up to 30 % longer over the same blocks than one pinned to
-// the other, and which vCPU is the slower changes over minutes (docs/BENCHMARKS.md, fifteenth
-// session); desktop CPUs with fast and slow cores differ by design, and any other job on the
+// the other, and which vCPU is the slower changes over minutes (docs/BENCHMARKS.md, "Machines
+// and noise"); desktop CPUs with fast and slow cores differ by design, and any other job on the
 // machine slows one thread. With an even cut every step waits for the slowest thread. Each
 // thread's blocks are timed (a clock read at each end of its share of a loop), each step
 // yields the shares that would have equalised those times, and every kEvery steps the shares
@@ -24,7 +24,7 @@
 // project's VM each thread's time for the same block wanders by a few % from one step to the
 // next (a host's other work, a stolen tick), and every loop ends with the threads meeting:
 // each step waits for whichever was slower that time, 6-8 % of a two-thread step in all
-// (docs/BENCHMARKS.md, twentieth session). In the loops whose grains are independent (the
+// (docs/BENCHMARKS.md, "The DEM step's design"). In the loops whose grains are independent (the
 // opening and closing grain loops: no grain's operations read what another's write) a
 // thread takes its own block in chunks, and then the chunks its partners have not reached
 // yet. Which thread does a grain changes the speed only, never the bits. The pair pass shares

@@ -18,8 +18,8 @@ template <int D>
 }
 
 // x - x is exactly 0 for a finite x and NaN otherwise: a branch-free test, where Eigen's
-// allFinite() branches per component (in a fused grain loop tried in the tenth session it
-// took 16 % of the loop's samples, docs/BENCHMARKS.md).
+// allFinite() branches per component (a fused grain loop spent 16 % of its samples in it,
+// docs/BENCHMARKS.md, "The DEM step's design").
 template <int D>
 [[gnu::always_inline]] inline bool position_ok(const typename Space<D>::Vec& x) {
   return (x - x).squaredNorm() == 0.0;
