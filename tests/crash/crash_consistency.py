@@ -5,17 +5,19 @@ which a resume reaches the uninterrupted run's final state, bit for bit.
 Usage: crash_consistency.py --sable BIN --work DIR [--trials N] [--seed S] SCENARIO...
 
 For each scenario: one uninterrupted run gives the reference state hash (the `done:` line of
-`sable run`) and its wall time T. Then N trials, each on a fresh output directory: start the
-run, SIGKILL it after a delay of u * T, with u drawn uniformly in [0.1, 0.95) from a
-generator seeded by (S, scenario, trial), so the moments are reproducible as fractions of
-the run; take the newest snapshot (snapshots/step_*.h5 by the step in its name; the
-temporaries `*.tmp-<pid>` of a write cut short are ignored); check that `sable info` loads
-it, that its step is the one in its name and that its state hash is that of the reference
-run's snapshot of the same name (the snapshot is exactly the uninterrupted run's); resume
-from it into another fresh directory and check the final state hash against the
-reference. A leftover `*.tmp-*` in snapshots/ means the kill landed during a snapshot
-write: those trials are counted and reported, since they are the point of the test
-(snapshots are written to a temporary and renamed, src/sable/io/atomic_file.cpp).
+`sable run`), its wall time T and its n step snapshots. Then N trials, each on a fresh output
+directory: start the run, and SIGKILL it u T / n seconds (u of the mean time between two
+snapshots) after its step snapshot number m appeared, m among the first n - 2 and u in
+[0, 1) drawn from a generator seeded by (S, scenario, trial): the moments are reproducible
+as places in the run's progress, whatever the machine's load. Then take the newest snapshot
+(snapshots/step_*.h5 by the step in its name; the temporaries `*.tmp-<pid>` of a write cut
+short are ignored); check that `sable info` loads it, that its step is the one in its name
+and that its state hash is that of the reference run's snapshot of the same name (the
+snapshot is exactly the uninterrupted run's); resume from it into another fresh directory
+and check the final state hash against the reference. A leftover `*.tmp-*` in snapshots/
+means the kill landed during a snapshot write: those trials are counted and reported, since
+they are the point of the test (snapshots are written to a temporary and renamed,
+src/sable/io/atomic_file.cpp).
 
 Exit status 0 when every trial passes, 1 otherwise (each failure is printed).
 """
@@ -71,31 +73,46 @@ def newest_snapshot(snap_dir):
     return step, os.path.join(snap_dir, name), temps
 
 
-def trial(args, scenario, name, ref, k):
-    """One kill, check and resume; returns a dict describing it (raises on a failure)."""
-    rng = random.Random(f"{args.seed}/{name}/{k}")
-    fraction = rng.uniform(0.1, 0.95)
-    delay = fraction * ref["seconds"]
-    base = os.path.join(args.work, name, f"trial-{k:02d}")
-    killed_dir, resumed_dir = os.path.join(base, "killed"), os.path.join(base, "resumed")
-    os.makedirs(base)
+def run_and_kill(args, scenario, base, after, wait):
+    """Start the run, SIGKILL it `wait` seconds after its snapshot `after` appeared; returns
+    (output directory, whether the run had finished before the kill)."""
+    killed_dir = os.path.join(base, "killed")
+    target = os.path.join(killed_dir, "snapshots", after)
     with open(os.path.join(base, "killed.log"), "w") as log:
         proc = subprocess.Popen([args.sable, "run", scenario, "--out", killed_dir, "--threads",
                                  "1"], stdout=log, stderr=subprocess.STDOUT)
+        # Poll every millisecond: a snapshot interval lasts 5-20 ms here.
+        while not os.path.exists(target) and proc.poll() is None:
+            time.sleep(0.001)
         try:
-            proc.wait(timeout=delay)
-            finished = True  # the run ended before the kill was due (a faster machine)
+            proc.wait(timeout=wait)
+            return killed_dir, True  # the run ended before the kill was due
         except subprocess.TimeoutExpired:
             proc.send_signal(signal.SIGKILL)
             proc.wait()
-            finished = False
+            return killed_dir, False
+
+
+def trial(args, scenario, name, ref, k):
+    """One kill, check and resume; returns a dict describing it (raises on a failure)."""
+    # The moment: after a seeded one of the reference run's step snapshots (not its last
+    # two), a seeded fraction of the mean time between snapshots later. Counted from the run's
+    # own progress rather than from its start, it lands in the same stretch of the run however
+    # busy the machine is.
+    rng = random.Random(f"{args.seed}/{name}/{k}")
+    names = sorted(ref["snapshots"])
+    after = names[rng.randrange(0, len(names) - 2)]
+    fraction = rng.random()
+    base = os.path.join(args.work, name, f"trial-{k:02d}")
+    os.makedirs(base)
+    killed_dir, finished = run_and_kill(args, scenario, base, after,
+                                        fraction * ref["seconds"] / len(names))
+    resumed_dir = os.path.join(base, "resumed")
     step, snapshot, temps = newest_snapshot(os.path.join(killed_dir, "snapshots"))
-    out = {"trial": k, "fraction": fraction, "finished": finished, "step": step,
-           "mid_write": bool(temps)}  # only snapshots are written in snapshots/
+    out = {"trial": k, "after": after, "fraction": fraction, "finished": finished,
+           "step": step, "mid_write": bool(temps)}  # only snapshots are written there
     if snapshot is None:
-        if finished:
-            raise RuntimeError(f"{name} trial {k}: the run finished without snapshots")
-        return out  # killed before the first snapshot: nothing to resume
+        raise RuntimeError(f"{name} trial {k}: no complete step snapshot after {after} appeared")
     got_step, got_hash = info(args.sable, snapshot, os.path.join(base, "info.log"))
     if got_step != step:
         raise RuntimeError(f"{name} trial {k}: {snapshot} holds step {got_step}")
@@ -161,15 +178,14 @@ def main():
                 failures += 1
                 print(f"FAIL: {e}")
         for t in done:
-            where = ("finished before the kill" if t["finished"] else
-                     "killed before the first snapshot" if t["step"] is None else
-                     f"newest snapshot step {t['step']}")
-            print(f"  trial {t['trial']:2d}: kill at {t['fraction']:.3f} of the run, {where}"
+            where = "finished before the kill" if t["finished"] else "killed"
+            print(f"  trial {t['trial']:2d}: {t['fraction']:.3f} of an interval after "
+                  f"{t['after']}: {where}, newest snapshot step {t['step']}"
                   f"{', during a snapshot write' if t['mid_write'] else ''}")
         mid = sum(t["mid_write"] for t in done)
-        resumed = sum(t["step"] is not None for t in done)
-        print(f"{name}: {len(done)} of {args.trials} trials passed; {mid} killed during a "
-              f"snapshot write; {resumed} resumed to the reference hash")
+        late = sum(t["finished"] for t in done)
+        print(f"{name}: {len(done)} of {args.trials} trials resumed to the reference hash; "
+              f"{mid} killed during a snapshot write, {late} finished before the kill")
     print(f"total {time.monotonic() - t_start:.1f} s, {failures} failure(s)")
     if failures == 0:
         shutil.rmtree(args.work, ignore_errors=True)
