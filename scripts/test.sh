@@ -17,3 +17,7 @@ ctest --preset release -j "$(nproc)"
 echo "== asan-ubsan build + unit tests"
 bash scripts/build.sh asan-ubsan
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --preset asan-ubsan -j "$(nproc)"
+
+# ThreadSanitizer: the threaded unit tests on two threads (docs/reliability.md; about 5 min).
+echo "== tsan build + threaded unit tests"
+bash scripts/tsan.sh

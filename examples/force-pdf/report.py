@@ -67,16 +67,22 @@ def bulk_contacts(adir, region):
     """Grain-grain force-carrying contacts with their point in the region, and the grains."""
     c = read_columns(os.path.join(adir, "contacts.csv"))
     g = read_columns(os.path.join(adir, "particle_stress.csv"))
-    slot = g["id"].astype(int)
-    if not np.array_equal(slot, np.arange(len(slot))):
-        raise SystemExit(f"{adir}/particle_stress.csv: ids are not the slots 0..N-1")
+    # contacts.csv names its grains by storage slot (i, and partner for a grain-grain row),
+    # and particle_stress.csv has one row per slot, in slot order. Its `id` column is another
+    # numbering: a run sorts the slots by cell (reorder_every), the ids stay with the grains.
     x = np.stack([g["x_m"], g["y_m"], g["z_m"]], axis=1)
     r = g["radius_m"]
     i = c["i"].astype(int)
     j = c["partner"].astype(int)
     grain = c["wall"] == 0
-    lo, hi = region
     xi = np.stack([c["x_i_m"], c["y_i_m"], c["z_i_m"]], axis=1)
+    # Both files print the same doubles with the same format: every contact's first end is
+    # exactly its slot's row, or the two files do not index the grains alike.
+    if i.size and (i.max() >= len(r) or np.any(j[grain] >= len(r)) or
+                   not np.array_equal(x[i], xi)):
+        raise SystemExit(f"{adir}: contacts.csv's grain slots do not match the rows of "
+                         "particle_stress.csv")
+    lo, hi = region
     xe = np.stack([c["x_end_m"], c["y_end_m"], c["z_end_m"]], axis=1)
     partner = np.where(grain, j, 0)  # a wall's row names the wall: any grain will do there
     share = np.where(grain, r[i] / (r[i] + r[partner]), 0.0)

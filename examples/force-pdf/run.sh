@@ -18,7 +18,7 @@
 #                 iso-dem's end state relaxed with rigid grains, needs iso-dem), triaxial-cd
 #                 (CD triaxial compression of iso-cd's end state, needs iso-cd)
 # Environment: SABLE (the sable binary, default build/release/bin/sable, built if missing),
-# SABLE_THREADS (OpenMP threads per run, default 1).
+# SABLE_THREADS (OpenMP threads per run, default 1), SABLE_OUT (the output root, default out).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 mode="${1:-quick}"
@@ -34,7 +34,7 @@ esac
 SABLE="${SABLE:-build/release/bin/sable}"
 threads="${SABLE_THREADS:-1}"
 here=examples/force-pdf
-out=out/force-pdf
+out="${SABLE_OUT:-out}/force-pdf"
 mkdir -p "$out"
 if [ ! -x "$SABLE" ]; then bash scripts/build.sh release > /dev/null; fi
 

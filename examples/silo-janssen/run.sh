@@ -22,6 +22,7 @@
 # The cases without "-rolling" are the paper's set-up as given (free disks); those with it add
 # a rolling friction of 0.1, which puts > 90 % of the wall contacts on the Coulomb cone
 # (silo-cd-2d-rolling.toml says why).
+# Environment: SABLE_OUT, the output root (default out).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 mode="${1:-quick}"
@@ -40,7 +41,7 @@ case "$mode" in
     done ;;
 esac
 bin=./build/release/bin/sable
-out=out/silo-janssen
+out="${SABLE_OUT:-out}/silo-janssen"
 mkdir -p "$out"
 
 # Wall-profile bins: six mean diameters (18 mm) in 2D, so that each bin of the 350-grain silo

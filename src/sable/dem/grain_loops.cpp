@@ -311,6 +311,10 @@ void DemSolver<D>::wall_contact(std::size_t k, double& max_ratio, std::size_t& t
   ++touching;
 }
 
+// The pair pass (dem_solver.cpp) calls grain_pass() too: an implicit instantiation here may
+// be inlined away (clang does at -O2), so it is instantiated explicitly.
+template DemSolver<2>::GrainPass DemSolver<2>::grain_pass(double);
+template DemSolver<3>::GrainPass DemSolver<3>::grain_pass(double);
 template DemSolver<2>::Moved DemSolver<2>::kick_drift(double, double);
 template DemSolver<3>::Moved DemSolver<3>::kick_drift(double, double);
 template int DemSolver<2>::close_gathered(const GrainPass&, const std::uint32_t*, std::uint32_t,
