@@ -8,6 +8,8 @@ packages=(
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev libhdf5-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib clang-format
+  # examples/silo-janssen/wall_contacts.py reads snapshots from Python.
+  python3-h5py
   # The ThreadSanitizer build (docs/reliability.md): clang, its sanitizer runtimes (only
   # recommended by clang, and this script skips recommendations), LLVM's libomp with Archer.
   clang libclang-rt-dev libomp-dev
