@@ -157,6 +157,11 @@ int main(int argc, char** argv) {
   fc3d->add_option("--relaxation", fc3d_opt.relaxation, "relaxation w, 0 < w < 2");
   fc3d->add_option("--seed", fc3d_opt.seed, "random seed of the shuffled order");
 
+  // CLI11 quotes the value it refuses: clipped like every other quote of an input.
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return sable::clip(e.what(), 2 * sable::kQuoteLimit) +
+           "\nRun with --help for more information.\n";
+  });
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -295,7 +295,7 @@ MatrixProblem parse_fc3d(std::string_view text, const std::string& name) {
 
 MatrixProblem read_fc3d(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the file");
+  if (!in) throw InputError(clip(path) + ": cannot open the file");  // any command-line text
   std::ostringstream ss;
   ss << in.rdbuf();
   if (in.bad()) throw InputError(path + ": read error");

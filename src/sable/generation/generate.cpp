@@ -214,7 +214,8 @@ T parse_number(const std::string& token, const std::string& path, std::size_t li
   std::istringstream ts(token);
   T value{};
   if (!(ts >> value) || !ts.eof())
-    throw InputError(fmt::format("{}:{}: expected {}, found '{}'", path, lineno, what, token));
+    throw InputError(
+        fmt::format("{}:{}: expected {}, found '{}'", path, lineno, what, clip(token)));
   return value;
 }
 
@@ -249,7 +250,7 @@ std::vector<GrainSeed> read_lammps_data(const std::string& path, int dim) {
     const auto id = parse_number<std::uint64_t>(tok[0], path, lineno, "an atom id");
     const double diam = parse_number<double>(tok[2], path, lineno, "a diameter");
     if (!(diam > 0.0))
-      throw InputError(fmt::format("{}:{}: diameter {} must be > 0", path, lineno, tok[2]));
+      throw InputError(fmt::format("{}:{}: diameter {} must be > 0", path, lineno, clip(tok[2])));
     const double x = parse_number<double>(tok[4], path, lineno, "a coordinate");
     const double y = parse_number<double>(tok[5], path, lineno, "a coordinate");
     const double z = parse_number<double>(tok[6], path, lineno, "a coordinate");

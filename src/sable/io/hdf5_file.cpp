@@ -144,8 +144,15 @@ File File::open(const std::string& path, const std::string& label, bool writable
   namespace fs = std::filesystem;
   std::error_code ec;
   const auto status = fs::status(path, ec);
-  if (!fs::exists(status)) throw InputError(label + ": file does not exist");
-  if (!fs::is_regular_file(status)) throw InputError(label + ": not a regular file");
+  // A path that names no file may be any text the command line was given: it is quoted
+  // clipped. One that names a file is at most PATH_MAX (4096) bytes.
+  if (!fs::exists(status) || !fs::is_regular_file(status)) {
+    std::string named = label;
+    if (const std::size_t at = named.find(path); at != std::string::npos)
+      named.replace(at, path.size(), clip(path));
+    throw InputError(named +
+                     (fs::exists(status) ? ": not a regular file" : ": file does not exist"));
+  }
   const htri_t is_h5 = H5Fis_hdf5(path.c_str());
   if (is_h5 == 0) throw InputError(label + ": not an HDF5 file (no HDF5 signature found)");
   if (is_h5 < 0) throw InputError(fmt::format("{}: cannot be read: {}", label, error_detail()));

@@ -201,7 +201,7 @@ h5::File open_snapshot(const std::string& path) {
   const std::string format = f.read_attr_string("/", "format");
   if (format != kSnapshotFormat) {
     f.fail(fmt::format("not a Sable snapshot: attribute 'format' on '/' is \"{}\", expected \"{}\"",
-                       format, kSnapshotFormat));
+                       clip(format), kSnapshotFormat));
   }
   const auto version = f.read_attr<std::uint32_t>("/", "version");
   if (version != kSnapshotVersion) {
@@ -312,7 +312,7 @@ void read_walls(const h5::File& f, const std::vector<Wall<D>>& walls, Loaded<D>&
       f.fail(
           fmt::format("dataset '/walls/names' row {} is \"{}\", but the scenario's wall {} is "
                       "\"{}\"",
-                      k, names[k], k, walls[k].name));
+                      k, clip(names[k]), k, clip(walls[k].name)));
     }
   }
   const auto w = static_cast<hsize_t>(walls.size());

@@ -27,8 +27,9 @@ constexpr Range kPoisson{0.0, 0.5, false, true};
 constexpr Range kRestitution{0.0, 1.0, true, false};
 constexpr Range kUnitOpenHi{0.0, 1.0, false, true};
 
+// A name or path read from the input, quoted in a message (clipped: see sable::clip).
 std::string in_quotes(const std::string& s) {
-  return "\"" + s + "\"";
+  return "\"" + clip(s) + "\"";
 }
 
 // --- [simulation], [domain] -----------------------------------------------------------------
@@ -133,10 +134,10 @@ void check_material_name(const toml::node& node, const std::string& key, const s
   std::vector<std::string> known;
   for (const MaterialConfig& m : materials) {
     if (m.material.name == name) return;
-    known.push_back(in_quotes(m.material.name));
+    known.push_back(m.material.name);
   }
   detail::fail_value(node, key, file,
-                     "the name of a [[material]] (known: " + detail::join(known) + ")");
+                     "the name of a [[material]] (known: " + detail::join_names(known, true) + ")");
 }
 
 std::string material_ref(const Table& t, const std::vector<MaterialConfig>& materials) {
@@ -517,7 +518,7 @@ void parse_wall_velocity(const Table& s, StageConfig& st, const std::vector<std:
   if (!t) return;
   const std::string expected = names.empty()
                                    ? std::string("a wall name (there are no [[wall]] tables)")
-                                   : "a wall name (known: " + detail::join(names) + ")";
+                                   : "a wall name (known: " + detail::join_names(names) + ")";
   for (auto&& [k, v] : t->raw()) {
     const std::string name(k.str());
     const std::string key = t->key_path(name);
@@ -552,8 +553,8 @@ void parse_wall_stress(const Table& s, StageConfig& st, const std::vector<std::s
     const std::string key = t->key_path(name);
     if (!detail::contains(names, name) && !detail::contains(names, name + ".xlo"))
       detail::fail_at(k.source(), s.file(),
-                      "unknown wall " + key +
-                          ": expected a wall or box name (known: " + detail::join(names) + ")");
+                      "unknown wall " + key + ": expected a wall or box name (known: " +
+                          detail::join_names(names) + ")");
     const auto value = t->number(name, kNonNegative);
     if (!value) detail::fail_at(k.source(), s.file(), key + ": expected a stress in Pa (>= 0)");
     st.wall_stress[name] = *value;
@@ -721,9 +722,10 @@ ScenarioConfig parse_scenario(const std::string& text, const std::string& path) 
 }
 
 ScenarioConfig load_scenario(const std::string& path) {
+  const std::string name = clip(path);
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) {
-    throw InputError(path + ": cannot read scenario: no such file");
+    throw InputError(name + ": cannot read scenario: no such file");
   }
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(path + ": cannot read scenario: not a regular file");
