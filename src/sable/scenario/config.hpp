@@ -207,6 +207,10 @@ struct ScenarioConfig {
   OutputConfig output;
 };
 
+// Largest scenario read: 64 MiB, a thousand times the largest example (a list of a million
+// grain positions is about 40 MB). load_scenario() refuses a larger file before reading it.
+inline constexpr std::size_t kMaxScenarioBytes = std::size_t{64} << 20;
+
 // Parse and validate. Throws InputError naming file:line:column, the key and what was expected.
 ScenarioConfig parse_scenario(const std::string& text, const std::string& path);
 ScenarioConfig load_scenario(const std::string& path);

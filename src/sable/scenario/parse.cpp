@@ -4,10 +4,12 @@
 // with its type and range checked. Cross references (material names, wall names) are checked
 // once the tables they point to have been read, so [simulation] comes first (the dimension
 // sets the length of every vector), then materials, then what refers to them.
+#include <fmt/format.h>
+
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <utility>
 
 #include "sable/core/error.hpp"
@@ -681,6 +683,9 @@ void check_rolling(const Table& root, const ScenarioConfig& cfg) {
 }  // namespace
 
 ScenarioConfig parse_scenario(const std::string& text, const std::string& path) {
+  if (text.size() > kMaxScenarioBytes)
+    throw InputError(fmt::format("{}: the scenario is {} bytes; at most {} (64 MiB) are read",
+                                 clip(path), text.size(), kMaxScenarioBytes));
   const toml::table doc = detail::parse_document(text, path);
   const Table root(doc, "", path);
   root.check_keys({"simulation", "domain", "material", "material_pair", "contact", "cd", "grains",
@@ -728,12 +733,28 @@ ScenarioConfig load_scenario(const std::string& path) {
     throw InputError(name + ": cannot read scenario: no such file");
   }
   if (!std::filesystem::is_regular_file(path, ec)) {
-    throw InputError(path + ": cannot read scenario: not a regular file");
+    throw InputError(name + ": cannot read scenario: not a regular file");
   }
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  const auto too_large = [&](const std::string& bytes) {
+    return InputError(
+        fmt::format("{}: cannot read scenario: the file is {} bytes; at most {} "
+                    "(64 MiB) are read",
+                    name, bytes, kMaxScenarioBytes));
+  };
+  if (!ec && size > kMaxScenarioBytes) throw too_large(std::to_string(size));
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot read scenario: the file cannot be opened");
-  std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  if (in.bad()) throw InputError(path + ": cannot read scenario: read failed");
+  if (!in) throw InputError(name + ": cannot read scenario: the file cannot be opened");
+  std::string text;
+  if (!ec) text.reserve(static_cast<std::size_t>(size));
+  // Read in blocks up to the limit: a file that grew since file_size() is refused too.
+  std::array<char, 1 << 16> block;
+  while (in.read(block.data(), block.size()) || in.gcount() > 0) {
+    text.append(block.data(), static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxScenarioBytes)
+      throw too_large("over " + std::to_string(kMaxScenarioBytes));
+  }
+  if (in.bad()) throw InputError(name + ": cannot read scenario: read failed");
   return parse_scenario(text, path);
 }
 

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "sable/core/error.hpp"
+#include "sable/scenario/toml_scan.hpp"
 
 namespace sable::detail {
 
@@ -152,6 +153,7 @@ bool contains(const std::vector<std::string>& items, const std::string& item) {
 }
 
 toml::table parse_document(const std::string& text, const std::string& path) {
+  scan_toml_depth(text, path);  // toml++ has no bound on the parts of a dotted key
 #if TOML_EXCEPTIONS
   try {
     return toml::parse(std::string_view(text), std::string_view(path));

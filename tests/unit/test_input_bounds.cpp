@@ -1,0 +1,126 @@
+// Hostile scenario input: nesting that overflowed toml++'s stack, a file too large to read.
+// Each is refused with InputError naming the file, line and column and the limit
+// (docs/reliability.md, "Bounds on input").
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "input_helpers.hpp"
+#include "sable/core/error.hpp"
+#include "sable/scenario/build.hpp"
+#include "sable/scenario/config.hpp"
+#include "sable/scenario/toml_scan.hpp"
+
+namespace sable {
+namespace {
+
+namespace fs = std::filesystem;
+using test::error_of;
+using test::grains;
+using test::has;
+using test::kHead;
+using test::kPath;
+using test::kTail;
+using test::kValid;
+using test::repeat;
+
+// "a.a.a...a" with `parts` parts.
+std::string dotted(std::size_t parts) {
+  return repeat("a.", parts - 1) + "a";
+}
+
+// ---------------------------------------------------------------- nesting (toml++ crashed)
+
+// Guards: a dotted key and a table header of 40,000 parts overflowed the stack inside toml++
+// (exit 139, no message; 30,000 parts gave an error). Both are refused before toml++ sees
+// them, at the key's line and column, naming the limit.
+TEST(InputBounds, DeepDottedKeyAndTableHeaderAreRefusedWhereTheyStart) {
+  const std::string key = error_of("x = 1\n" + dotted(40000) + ".b = 1\n");
+  EXPECT_TRUE(has(key, "bounds.toml:2:1: nested more than 64 levels deep"));
+  EXPECT_TRUE(has(key, "dotted key"));
+  const std::string header = error_of("\n\n  [" + dotted(40000) + "]\nb = 1\n");
+  EXPECT_TRUE(has(header, "bounds.toml:3:4: nested more than 64 levels deep"));
+  const std::string array_header = error_of("[[" + dotted(40000) + "]]\n");
+  EXPECT_TRUE(has(array_header, "bounds.toml:1:3: nested more than 64 levels deep"));
+}
+
+// Guards: the limit counts every level on the way from the root (a header's parts, a dotted
+// key's, arrays, inline tables, keys inside inline tables). 64 levels reach the parser, which
+// reports the unknown key; 65 do not.
+TEST(InputBounds, SixtyFourLevelsAreReadSixtyFiveAreNot) {
+  EXPECT_TRUE(has(error_of(dotted(64) + " = 1\n"), "unknown key a;"));
+  EXPECT_TRUE(has(error_of(dotted(65) + " = 1\n"), "nested more than 64 levels deep"));
+  EXPECT_TRUE(has(error_of("[" + dotted(60) + "]\na.a.a.a = 1\n"), "unknown key a;"));
+  EXPECT_TRUE(has(error_of("[" + dotted(60) + "]\na.a.a.a.a = 1\n"), "bounds.toml:2:1: nested"));
+  // [[x]]: the array and its table are two levels.
+  EXPECT_TRUE(has(error_of("[[" + dotted(62) + "]]\na.a = 1\n"), "bounds.toml:2:1: nested"));
+  // 32 arrays hold the 33rd level's value; the key and 31 inline tables take the rest.
+  EXPECT_TRUE(has(error_of("k = " + repeat("[", 63) + repeat("]", 63) + "\n"), "unknown key k"));
+  EXPECT_TRUE(has(error_of("k = " + repeat("[", 64) + repeat("]", 64) + "\n"),
+                  "bounds.toml:1:68: nested more than 64 levels deep (arrays and inline"));
+  EXPECT_TRUE(has(error_of("k = " + repeat("{ a.a = ", 32) + "1" + repeat("}", 32) + "\n"),
+                  "bounds.toml:1:"));
+  EXPECT_TRUE(has(error_of("k = " + repeat("[{ a = ", 31) + "1" + repeat("}]", 31) + "\n"),
+                  "unknown key k"));
+  EXPECT_TRUE(has(error_of("k = " + repeat("[{ a = ", 32) + "1" + repeat("}]", 32) + "\n"),
+                  "nested more than 64 levels deep"));
+}
+
+// Guards: arrays and inline tables 10^5 and 10^6 deep (toml++ stops at 256 by itself) are
+// refused by the same limit, in time linear in the text.
+TEST(InputBounds, DeepArraysAndInlineTablesAreRefused) {
+  for (const std::size_t n : {std::size_t{100000}, std::size_t{1000000}}) {
+    EXPECT_TRUE(has(error_of("a = " + repeat("[", n) + repeat("]", n) + "\n"),
+                    "bounds.toml:1:68: nested more than 64 levels deep"));
+    EXPECT_TRUE(has(error_of("a = " + repeat("{a=", n) + "1" + repeat("}", n) + "\n"),
+                    "nested more than 64 levels deep"));
+  }
+}
+
+// Guards: brackets, braces and dots inside strings and comments are not nesting: a material
+// named with 1,000 of each, in each kind of string, beside a comment of them, parses.
+TEST(InputBounds, BracketsInStringsAndCommentsAreNotNesting) {
+  const std::string deep = repeat("[{a.", 1000);
+  for (const std::string& quoted :
+       {"\"" + deep + "\"", "'" + deep + "'", "\"\"\"" + deep + "\"\"\"", "'''" + deep + "'''"}) {
+    std::string text = kValid;
+    text.replace(text.find("\"g\""), 3, quoted + " # " + deep);
+    text.replace(text.find("\"g\""), 3, quoted);  // the grains' material
+    text.replace(text.find("\"g\""), 3, quoted);  // the wall's
+    EXPECT_EQ(parse_scenario(text, kPath).materials[0].material.name, deep) << quoted;
+  }
+}
+
+// Guards: the scan itself, on text that is not TOML: unterminated strings, stray closers and
+// lone quotes end without reading past the text (ASan would see it).
+TEST(InputBounds, TheScanEndsOnBrokenText) {
+  for (const char* text : {"a = \"", "a = '''", "a = \"\"\"\\", "]]]}}}", "[[", "a.\"", "{a.b",
+                           "a = [", "= = =", "a=\"\\", "a = {", "a = { b = [ {"}) {
+    EXPECT_NO_THROW(detail::scan_toml_depth(text, kPath)) << text;
+  }
+}
+
+// ---------------------------------------------------------------- file size
+
+// Guards: a scenario of more than 64 MiB is refused by its size, before it is read (the file
+// here is sparse: nothing of it is written or read).
+TEST(InputBounds, ScenarioFileOver64MiBIsRefusedUnread) {
+  const fs::path p = fs::temp_directory_path() / ("sable_bounds_" + std::to_string(::getpid()));
+  std::ofstream(p).close();
+  fs::resize_file(p, kMaxScenarioBytes + 1);
+  try {
+    load_scenario(p.string());
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(has(e.what(), p.string() + ": cannot read scenario: the file is 67108865 bytes; "
+                                           "at most 67108864 (64 MiB)"));
+  }
+  fs::remove(p);
+  EXPECT_TRUE(has(error_of(std::string(kMaxScenarioBytes + 1, '#')), "at most 67108864"));
+}
+
+}  // namespace
+}  // namespace sable
