@@ -1,6 +1,6 @@
-// Hostile scenario input: nesting that overflowed toml++'s stack, a file too large to read.
-// Each is refused with InputError naming the file, line and column and the limit
-// (docs/reliability.md, "Bounds on input").
+// Hostile scenario input: nesting that overflowed toml++'s stack, a file too large to read,
+// grain counts no machine holds. Each is refused with InputError naming the file, line and
+// column and the limit (docs/reliability.md, "Bounds on input").
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -120,6 +120,44 @@ TEST(InputBounds, ScenarioFileOver64MiBIsRefusedUnread) {
   }
   fs::remove(p);
   EXPECT_TRUE(has(error_of(std::string(kMaxScenarioBytes + 1, '#')), "at most 67108864"));
+}
+
+// ---------------------------------------------------------------- counts
+
+// Guards: a count of 10^12 grains, or counts adding up past 10^8, is refused at its key instead
+// of generating until memory runs out; so is a max_attempts past 10^6.
+TEST(InputBounds, GrainCountsAreBounded) {
+  EXPECT_TRUE(has(error_of(kHead + grains("1000000000000") + kTail),
+                  "bounds.toml:17:9: grains[0].count = 1000000000000: expected an integer in "
+                  "[1, 100000000]"));
+  EXPECT_NO_THROW(parse_scenario(kHead + grains("100000000") + kTail, kPath));
+  EXPECT_TRUE(has(error_of(kHead + grains("60000000") + grains("60000000") + kTail),
+                  "bounds.toml:18:1: grains[1]: the [[grains]] blocks so far ask for 120000000 "
+                  "grains; a scenario may ask for at most 100000000"));
+  EXPECT_TRUE(has(error_of(kHead + grains("4", "max_attempts = 1000001\n", "random") + kTail),
+                  "bounds.toml:18:16: grains[0].max_attempts = 1000001: expected an integer in "
+                  "[1, 1000000]"));
+  EXPECT_NO_THROW(
+      parse_scenario(kHead + grains("4", "max_attempts = 1000000\n", "random") + kTail, kPath));
+}
+
+// Guards: a lattice whose sites all fall outside the region (a jitter of 10^6 m on a 1 m box
+// of 2.5 billion sites) gives up after 2^24 + 64 x count sites instead of visiting them all.
+TEST(InputBounds, LatticeGivesUpOnSitesOutsideTheRegion) {
+  std::string block = grains("4", "jitter = 1e6\n");
+  block.replace(block.find("radius = 1e-3"), 13, "radius = 1e-5");
+  block.replace(block.find("hi = [0.01, 0.01]"), 17, "hi = [1, 1]");
+  const ScenarioConfig cfg = parse_scenario(kHead + block + kTail, kPath);
+  World<2> w;
+  build_model(cfg, w);
+  try {
+    build_grains(cfg, w);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(has(e.what(),
+                    "bounds.toml:12:1: grains: 16777473 lattice sites lie outside the "
+                    "region for 0 grains placed of 4"));
+  }
 }
 
 }  // namespace

@@ -387,7 +387,11 @@ void parse_generator_keys(const Table& g, GrainsConfig& gc, int dim) {
   if (gc.generator == "lattice" || gc.generator == "random") {
     gc.region = parse_region(g, dim);
     if (!g.has("count")) g.fail_missing("count", "an integer >= 1");
-    gc.count = static_cast<std::size_t>(*g.unsigned_int("count", 1));
+    const std::uint64_t count = *g.unsigned_int("count", 1);
+    if (count > kMaxGrains)
+      g.fail("count", fmt::format("an integer in [1, {}] (the most grains a scenario may ask for)",
+                                  kMaxGrains));
+    gc.count = static_cast<std::size_t>(count);
     gc.seed = g.unsigned_int("seed");
   }
   if (gc.generator == "lattice") {
@@ -397,6 +401,8 @@ void parse_generator_keys(const Table& g, GrainsConfig& gc, int dim) {
     gc.arrangement = g.choice("arrangement", {"square", "hexagonal"}, gc.arrangement);
   } else if (gc.generator == "random") {
     gc.max_attempts = static_cast<std::size_t>(g.unsigned_or("max_attempts", gc.max_attempts, 1));
+    if (gc.max_attempts > kMaxInsertionAttempts)
+      g.fail("max_attempts", fmt::format("an integer in [1, {}]", kMaxInsertionAttempts));
   } else if (gc.generator == "list") {
     parse_positions(g, gc, dim);
   } else {
@@ -704,8 +710,17 @@ ScenarioConfig parse_scenario(const std::string& text, const std::string& path) 
                       "a time step: contact dynamics has no automatic dt (choose "
                       "it so grains move a small fraction of a radius per step)");
   }
-  for (const Table& g : root.table_array("grains"))
+  std::uint64_t grains = 0;
+  for (const Table& g : root.table_array("grains")) {
     cfg.grains.push_back(parse_grains_entry(g, cfg));
+    const GrainsConfig& gc = cfg.grains.back();
+    grains += gc.count + gc.positions.size();
+    if (grains > kMaxGrains)
+      detail::fail_at(g.raw().source(), path,
+                      fmt::format("{}: the [[grains]] blocks so far ask for {} grains; a scenario "
+                                  "may ask for at most {}",
+                                  g.name(), grains, kMaxGrains));
+  }
   std::vector<std::string> wall_names;
   cfg.walls = parse_walls(root, cfg, wall_names);
   const auto stages = root.table_array("stage");
