@@ -1,6 +1,7 @@
 // Hostile scenario input: nesting that overflowed toml++'s stack, a file too large to read,
-// grain counts no machine holds. Each is refused with InputError naming the file, line and
-// column and the limit (docs/reliability.md, "Bounds on input").
+// grain counts no machine holds, a domain wider than a double. Each is refused with
+// InputError naming the file, line and column and the limit (docs/reliability.md, "Bounds on
+// input"), or, for the domain, handled.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -157,6 +158,25 @@ TEST(InputBounds, LatticeGivesUpOnSitesOutsideTheRegion) {
     EXPECT_TRUE(has(e.what(),
                     "bounds.toml:12:1: grains: 16777473 lattice sites lie outside the "
                     "region for 0 grains placed of 4"));
+  }
+}
+
+// Guards: a domain as wide as a double holds (its extent overflows to infinity) and grains a
+// billionth of it cut no cell count that overflows an int or a product of counts (undefined
+// casts, which UBSan reports; a wrapped product sized the cell array too small): the grains
+// touch, and their contacts are found.
+TEST(InputBounds, HugeDomainsCutFewCells) {
+  for (const std::string lohi :
+       {"lo = [-1e308, -1e308]\nhi = [1e308, 1e308]", "lo = [0, 0]\nhi = [1e7, 1e7]"}) {
+    std::string text = kValid;
+    text.replace(text.find("lo = [0, 0]\nhi = [0.01, 0.01]"), 29, lohi);
+    const ScenarioConfig cfg = parse_scenario(text, kPath);
+    World<2> w;
+    build_model(cfg, w);
+    build_grains(cfg, w);
+    make_solver(cfg, w)->initialize();
+    // Four grains of radius 1 mm at a 2 mm pitch touch in a row: three neighbour pairs.
+    EXPECT_EQ(w.neighbors.pairs.size(), 3u) << lohi;
   }
 }
 
