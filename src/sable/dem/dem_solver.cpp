@@ -361,10 +361,13 @@ struct DemSolver<D>::PairPass {
       entries<Normal, How, Roll>(near, begin[g0], begin[g1], max_ratio, touching);
   }
 
-  // Lane l of `lanes` from touching entry k (grains a, b; d = x_a - x_b).
+  // Lane l of `lanes` from touching entry k (grains a, b; d = x_a - x_b). A template only so
+  // that `template class DemSolver<2>` leaves it out: clang 14 instantiates a constrained
+  // member function of a nested class whatever its constraint.
+  template <int E = D>
   [[gnu::always_inline]] void fill(ContactLanes& lanes, int l, std::size_t k, std::uint32_t a,
                                    std::uint32_t b, const Vec& d, double dist2, double rsum) const
-      requires(D == 3) {
+      requires(E == 3) {
     lanes.entry[l] = static_cast<std::uint32_t>(k);
     lanes.a[l] = a;
     lanes.b[l] = b;
