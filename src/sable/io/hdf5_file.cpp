@@ -87,6 +87,7 @@ std::vector<std::string> read_text(const File& f, const std::string& what, hid_t
   if (n == 0) return out;
   if (H5Tis_variable_str(ftype) > 0) {
     Id mem = string_type(H5T_VARIABLE);
+    H5Tset_cset(mem.get(), H5Tget_cset(ftype));  // HDF5 converts neither way between the two
     std::vector<char*> buf(n, nullptr);
     if (read(mem.get(), buf.data()) < 0)
       f.fail(fmt::format("cannot read {}: {}", what, error_detail()));
@@ -97,6 +98,7 @@ std::vector<std::string> read_text(const File& f, const std::string& what, hid_t
   // One extra byte per string so a string filling its whole fixed width keeps every character.
   const std::size_t width = H5Tget_size(ftype) + 1;
   Id mem = string_type(width);
+  H5Tset_cset(mem.get(), H5Tget_cset(ftype));
   std::vector<char> buf(n * width, '\0');
   if (read(mem.get(), buf.data()) < 0)
     f.fail(fmt::format("cannot read {}: {}", what, error_detail()));
