@@ -1,6 +1,7 @@
-// Damaged and crafted snapshots: sizes the file claims but does not hold, and values no run
-// makes. A crafted snapshot claiming 2^40 grains ended in "error: std::bad_alloc" (no file
-// named) on resume and analyze, and `sable info` called it valid.
+// Damaged and crafted snapshots: sizes the file claims but does not hold, and the integrity
+// check of `sable info`. A crafted snapshot claiming 2^40 grains ended in "error:
+// std::bad_alloc" (no file named) on resume and analyze, and `sable info` called it valid; a
+// snapshot with two flipped bits in a data array was reported fine by `sable info`.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <unistd.h>
@@ -17,6 +18,7 @@
 #include "sable/io/snapshot.hpp"
 #include "sable/scenario/build.hpp"
 #include "sable/scenario/config.hpp"
+#include "sable/scenario/verify.hpp"
 
 namespace sable {
 namespace {
@@ -274,6 +276,84 @@ TEST_F(SnapshotBounds, CliRefusesCraftedSnapshotsNamingThem) {
   EXPECT_TRUE(has(out, "dataset '/particles/x' claims 2199023255552 values"));
   EXPECT_EQ(cli("run " + (dir_ / "scenario.toml").string() + " --resume " + x, out), 2);
   EXPECT_TRUE(has(out, expected));
+}
+
+// ---------------------------------------------------------------- integrity (sable info)
+
+// Flips two bits of byte `at` of the values of dataset `name` (stored contiguously) in the
+// file's bytes, as a bad disk or transfer would.
+void flip_two_bits(const std::string& file, const std::string& name, std::size_t at) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t d = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+  const haddr_t offset = H5Dget_offset(d);
+  H5Dclose(d);
+  H5Fclose(f);
+  ASSERT_NE(offset, HADDR_UNDEF);
+  std::fstream io(file, std::ios::in | std::ios::out | std::ios::binary);
+  io.seekg(static_cast<std::streamoff>(offset + at));
+  char c = 0;
+  io.get(c);
+  c = static_cast<char>(c ^ 0x11);
+  io.seekp(static_cast<std::streamoff>(offset + at));
+  io.put(c);
+}
+
+// Guards: `sable info` loads the whole state and compares its hash: an intact snapshot is
+// "verified", one with two flipped bits in a data array (which resume refuses) FAILED with the
+// reason, exit 2; so is one whose value was rewritten through HDF5.
+TEST_F(SnapshotBounds, InfoVerifiesTheStateHash) {
+  EXPECT_TRUE(verify_snapshot(good_).verified) << verify_snapshot(good_).problem;
+  const std::string flipped = copy("flipped.h5");
+  flip_two_bits(flipped, "/particles/v", 8 * 5 + 3);  // the 6th double: grain 2's vx
+  const SnapshotIntegrity v = verify_snapshot(flipped);
+  EXPECT_FALSE(v.verified);
+  EXPECT_TRUE(has(v.problem, "snapshot '" + flipped + "': the loaded state hashes to "));
+  EXPECT_TRUE(has(v.problem, "but attribute 'state_hash' on '/' is"));
+  // The same refusal as a resume's.
+  EXPECT_EQ(load(flipped), v.problem);
+
+  if (!fs::exists(SABLE_CLI)) GTEST_SKIP() << SABLE_CLI << " not built";
+  std::string out;
+  EXPECT_EQ(cli("info " + good_, out), 0);
+  EXPECT_TRUE(has(out, "  integrity   verified (state hash matches)\n"));
+  EXPECT_EQ(cli("info " + flipped, out), 2);
+  EXPECT_TRUE(has(out, "  state hash  "));  // the header is still shown
+  EXPECT_TRUE(
+      has(out, "  integrity   FAILED: snapshot '" + flipped + "': the loaded state hashes to "));
+
+  const std::string rewritten = copy("rewritten.h5");
+  const hid_t f = H5Fopen(rewritten.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  const hid_t d = H5Dopen2(f, "/particles/radius", H5P_DEFAULT);
+  std::vector<double> r(8);
+  H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, r.data());
+  r[7] *= 1.0 + 1e-15;
+  H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, r.data());
+  H5Dclose(d);
+  H5Fclose(f);
+  EXPECT_EQ(cli("info " + rewritten, out), 2);
+  EXPECT_TRUE(has(out, "  integrity   FAILED: "));
+}
+
+// Guards: a snapshot whose stored scenario no longer parses cannot be verified (its walls
+// and materials are what the state is checked against): FAILED, saying so.
+TEST_F(SnapshotBounds, InfoFailsWhenTheStoredScenarioDoesNotParse) {
+  const std::string p = copy("scenario.h5");
+  const hid_t f = H5Fopen(p.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  H5Ldelete(f, "/scenario", H5P_DEFAULT);
+  const std::string text = "[simulation]\ndimension = 2\n";
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, text.size() + 1);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t d = H5Dcreate2(f, "/scenario", type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.c_str());
+  H5Dclose(d);
+  H5Sclose(space);
+  H5Tclose(type);
+  H5Fclose(f);
+  const SnapshotIntegrity v = verify_snapshot(p);
+  EXPECT_FALSE(v.verified);
+  EXPECT_TRUE(has(v.problem, "the scenario stored in the snapshot does not parse: " + p +
+                                 " (embedded scenario):1:1: missing required key domain"));
 }
 
 }  // namespace
