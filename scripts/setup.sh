@@ -8,6 +8,9 @@ packages=(
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev libhdf5-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib clang-format
+  # The fuzz targets (scripts/fuzz.sh): clang 14, its libFuzzer and sanitizer runtimes, and
+  # its OpenMP runtime.
+  clang libclang-rt-14-dev libomp-14-dev
 )
 
 missing=()
