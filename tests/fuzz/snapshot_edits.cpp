@@ -300,8 +300,10 @@ bool read(hid_t f, const char* name, Data& out) {
   const int rank = H5Sget_simple_extent_ndims(space);
   out.dims.assign(static_cast<std::size_t>(std::max(rank, 0)), 0);
   if (rank > 0) H5Sget_simple_extent_dims(space, out.dims.data(), nullptr);
-  const double bytes = static_cast<double>(H5Sget_simple_extent_npoints(space)) *
-                       static_cast<double>(H5Tget_size(out.type));
+  // From the dimensions: HDF5's count of points is signed and wraps negative past 2^63 (a
+  // dataset an edit made 2^62 rows of 2 columns).
+  double bytes = static_cast<double>(H5Tget_size(out.type));
+  for (const hsize_t n : out.dims) bytes *= static_cast<double>(n);
   if (H5Tis_variable_str(out.type) <= 0 && bytes <= (1 << 20)) {
     out.bytes.assign(static_cast<std::size_t>(bytes), 0);
     if (!out.bytes.empty() &&
