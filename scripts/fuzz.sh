@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Build the libFuzzer targets (the fuzz preset: clang, ASan + UBSan) and run each for SECONDS:
+# Build the libFuzzer targets (the fuzz build preset: the asan-ubsan configuration, clang with
+# ASan + UBSan and libFuzzer's coverage, which also builds the sanitized unit tests) and run
+# each for SECONDS:
 #
 #   bash scripts/fuzz.sh [SECONDS] [TARGET...]     (default: 60 s each; scenario snapshot fc3d)
 #   FUZZ_RUNS=1000000 bash scripts/fuzz.sh 0 TARGET   (a campaign: that many inputs, no time limit)
@@ -9,7 +11,7 @@
 # build/fuzz/corpus/TARGET, which keeps what the fuzzer adds between runs. An input that
 # crashes, times out (-timeout) or runs out of memory (-rss_limit_mb) is kept in
 # build/fuzz/crashes/TARGET/; every target runs, then the script fails if any found one.
-# Replay one with build/fuzz/bin/fuzz_TARGET FILE; once fixed, commit it (minimized:
+# Replay one with build/asan-ubsan/bin/fuzz_TARGET FILE; once fixed, commit it (minimized:
 # fuzz_TARGET -minimize_crash=1 -runs=10000 FILE) under tests/fuzz/regressions/TARGET/, which
 # the ctest FuzzReplay.TARGET replays in every build.
 set -euo pipefail
@@ -20,7 +22,8 @@ seconds="${1:-60}"
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(scenario snapshot fc3d)
 
-bash scripts/build.sh fuzz
+cmake --preset asan-ubsan >/dev/null
+cmake --build --preset fuzz -j "$(nproc)"
 
 # Per target: the longest input tried (bytes) and the dictionary, if any. Scenarios: the
 # examples are at most 6 KB. Snapshot edit scripts: a few hundred bytes decode to 8 edits.
@@ -44,7 +47,7 @@ seed() {  # seed TARGET FILES...: copy the files that exist into the target's co
 
 failed=()
 for t in "${targets[@]}"; do
-  bin="build/fuzz/bin/fuzz_$t"
+  bin="build/asan-ubsan/bin/fuzz_$t"
   [ -x "$bin" ] || { echo "fuzz: no target '$t' (known: scenario snapshot fc3d)" >&2; exit 2; }
   mkdir -p "build/fuzz/corpus/$t" "build/fuzz/crashes/$t" build/fuzz/logs
   seed "$t" tests/fuzz/corpus/"$t"/* tests/fuzz/regressions/"$t"/*

@@ -18,8 +18,8 @@ echo "== asan-ubsan build + unit tests"
 bash scripts/build.sh asan-ubsan
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --preset asan-ubsan -j "$(nproc)"
 
-# -- fuzzing (tests/fuzz, docs/reliability.md): the libFuzzer targets, built with clang under
-# ASan + UBSan (the fuzz preset), 60 s each from their seeds; a crash fails the run and its
-# input is kept in build/fuzz/crashes/.
+# -- fuzzing (tests/fuzz, docs/reliability.md): the libFuzzer targets, built by the asan-ubsan
+# build above (clang), 60 s each from their seeds; a crash fails the run and its input is kept
+# in build/fuzz/crashes/.
 echo "== fuzz targets, 60 s each"
 bash scripts/fuzz.sh 60
