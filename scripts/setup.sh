@@ -10,8 +10,9 @@ packages=(
   python3 python3-numpy python3-matplotlib clang-format
   # examples/silo-janssen/wall_contacts.py reads snapshots from Python.
   python3-h5py
-  # The ThreadSanitizer build (docs/reliability.md): clang, its sanitizer runtimes (only
-  # recommended by clang, and this script skips recommendations), LLVM's libomp with Archer.
+  # The sanitizer builds, the fuzz targets and ThreadSanitizer (docs/reliability.md): clang,
+  # its sanitizer and libFuzzer runtimes (only recommended by clang, and this script skips
+  # recommendations), LLVM's libomp with Archer.
   clang libclang-rt-dev libomp-dev
 )
 

@@ -42,8 +42,13 @@ Vec<D> random_step(Rng& rng, double len) {
 // [rmin, rmax], added to p.
 template <int D>
 void add_random_grains(ParticleStore<D>& p, Rng& rng, std::size_t n, double rmin, double rmax) {
-  for (std::size_t k = 0; k < n; ++k)
-    p.add(random_vec<D>(rng, 0.0, 1.0), rng.uniform(rmin, rmax), 2500.0, 0, 1.0);
+  for (std::size_t k = 0; k < n; ++k) {
+    // The radius is drawn first, then the position, in statements of their own: as arguments
+    // of one call their order was the compiler's (GCC drew the radius first, clang the
+    // position, and the packing differed).
+    const double r = rng.uniform(rmin, rmax);
+    p.add(random_vec<D>(rng, 0.0, 1.0), r, 2500.0, 0, 1.0);
+  }
 }
 
 // Grains 0 and 1 of `p`, of radius r, start at x0 a gap of just over `reach` apart along x

@@ -33,7 +33,7 @@ std::vector<double> parse_numbers(const std::string& text, const std::string& op
       if (used != item.size()) throw std::invalid_argument(item);
     } catch (const std::exception&) {
       throw InputError(
-          fmt::format("option {}: '{}' is not a number (in '{}')", option, item, text));
+          fmt::format("option {}: '{}' is not a number (in '{}')", option, clip(item), clip(text)));
     }
     pos = comma + 1;
   }
@@ -57,7 +57,7 @@ typename Space<D>::Vec parse_point(const std::string& text, const std::string& o
   const std::vector<double> v = parse_numbers(text, option);
   if (v.size() != static_cast<std::size_t>(D))
     throw InputError(fmt::format("option {}: '{}' has {} coordinates, a {}D point has {}", option,
-                                 text, v.size(), D, D));
+                                 clip(text), v.size(), D, D));
   typename Space<D>::Vec p;
   for (int d = 0; d < D; ++d) p[d] = v[static_cast<std::size_t>(d)];
   return p;
@@ -68,13 +68,14 @@ std::optional<Region<D>> parse_region(const std::string& text) {
   if (text.empty()) return std::nullopt;
   const auto parts = split_colon(text);
   if (parts.size() != 2)
-    throw InputError(fmt::format("option --region: '{}' is not 'lo:hi' (e.g. 0,0,0:1,1,1)", text));
+    throw InputError(
+        fmt::format("option --region: '{}' is not 'lo:hi' (e.g. 0,0,0:1,1,1)", clip(text)));
   Region<D> r;
   r.lo = parse_point<D>(parts[0], "--region");
   r.hi = parse_point<D>(parts[1], "--region");
   if (!(r.hi.array() > r.lo.array()).all())
     throw InputError(
-        fmt::format("option --region: '{}' is empty (every hi must exceed its lo)", text));
+        fmt::format("option --region: '{}' is empty (every hi must exceed its lo)", clip(text)));
   return r;
 }
 
@@ -85,11 +86,13 @@ std::optional<RotatingFrame> parse_frame(const AnalyzeOptions& opt) {
   }
   const auto parts = split_colon(opt.frame);
   if (parts.size() != 2)
-    throw InputError(fmt::format("option --frame: '{}' is not 'px,py,pz:ux,uy,uz'", opt.frame));
+    throw InputError(
+        fmt::format("option --frame: '{}' is not 'px,py,pz:ux,uy,uz'", clip(opt.frame)));
   const std::vector<double> p = parse_numbers(parts[0], "--frame"),
                             u = parse_numbers(parts[1], "--frame");
   if (p.size() != 3 || u.size() != 3)
-    throw InputError(fmt::format("option --frame: '{}' needs a 3D point and a 3D axis", opt.frame));
+    throw InputError(
+        fmt::format("option --frame: '{}' needs a 3D point and a 3D axis", clip(opt.frame)));
   RotatingFrame f;
   f.point = Eigen::Vector3d(p[0], p[1], p[2]);
   f.axis = Eigen::Vector3d(u[0], u[1], u[2]);
@@ -104,7 +107,8 @@ void check_options(const AnalyzeOptions& opt) {
                      [&](const char* a) { return name == a; }) == std::end(kAnalyses)) {
       std::string all;
       for (const char* a : kAnalyses) all += std::string(all.empty() ? "" : ", ") + a;
-      throw InputError(fmt::format("option --only: unknown analysis '{}' (known: {})", name, all));
+      throw InputError(
+          fmt::format("option --only: unknown analysis '{}' (known: {})", clip(name), all));
     }
   if (opt.bins <= 0) throw InputError(fmt::format("option --bins: {} must be > 0", opt.bins));
   if (!(opt.eps >= 0.0 && opt.eps < 1.0))
@@ -120,14 +124,15 @@ void check_options(const AnalyzeOptions& opt) {
     if (fs::is_directory(s, ec)) {
       const bool run_dir = fs::is_directory(fs::path(s) / "snapshots", ec);
       throw InputError(fmt::format(
-          "{}: a folder, expected snapshot files (.h5){}", s,
-          run_dir ? fmt::format(
-                        "; its run's snapshots are in {}/snapshots/, e.g. {}/snapshots/*.h5", s, s)
-                  : ""));
+          "{}: a folder, expected snapshot files (.h5){}", clip(s),
+          run_dir
+              ? fmt::format("; its run's snapshots are in {}/snapshots/, e.g. {}/snapshots/*.h5",
+                            clip(s), clip(s))
+              : ""));
     }
-    if (!fs::exists(s, ec)) throw InputError(fmt::format("{}: no such snapshot file", s));
+    if (!fs::exists(s, ec)) throw InputError(fmt::format("{}: no such snapshot file", clip(s)));
     if (!fs::is_regular_file(s, ec))
-      throw InputError(fmt::format("{}: not a regular file, expected a snapshot (.h5)", s));
+      throw InputError(fmt::format("{}: not a regular file, expected a snapshot (.h5)", clip(s)));
   }
 }
 

@@ -39,7 +39,7 @@ FieldSpec<D> field_spec(const AnalyzeOptions& opt, const Sample<D>& s,
     spec.layout = FieldLayout::Line;
     const auto colon1 = opt.line.find(':'), colon2 = opt.line.rfind(':');
     if (colon1 == std::string::npos || colon1 == colon2)
-      throw InputError(fmt::format("option --line: '{}' is not 'from:to:points'", opt.line));
+      throw InputError(fmt::format("option --line: '{}' is not 'from:to:points'", clip(opt.line)));
     std::vector<double> a, b;
     for (auto [text, out] : {std::pair{opt.line.substr(0, colon1), &a},
                              std::pair{opt.line.substr(colon1 + 1, colon2 - colon1 - 1), &b}}) {
@@ -49,13 +49,13 @@ FieldSpec<D> field_spec(const AnalyzeOptions& opt, const Sample<D>& s,
         try {
           out->push_back(std::stod(text.substr(pos, c - pos)));
         } catch (const std::exception&) {
-          throw InputError(fmt::format("option --line: '{}' has a non-number", opt.line));
+          throw InputError(fmt::format("option --line: '{}' has a non-number", clip(opt.line)));
         }
         pos = c + 1;
       }
     }
     if (a.size() != static_cast<std::size_t>(D) || b.size() != static_cast<std::size_t>(D))
-      throw InputError(fmt::format("option --line: '{}' needs two {}D points", opt.line, D));
+      throw InputError(fmt::format("option --line: '{}' needs two {}D points", clip(opt.line), D));
     for (int d = 0; d < D; ++d) {
       spec.from[d] = a[static_cast<std::size_t>(d)];
       spec.to[d] = b[static_cast<std::size_t>(d)];
@@ -63,7 +63,8 @@ FieldSpec<D> field_spec(const AnalyzeOptions& opt, const Sample<D>& s,
     try {
       spec.points = std::stoi(opt.line.substr(colon2 + 1));
     } catch (const std::exception&) {
-      throw InputError(fmt::format("option --line: '{}' ends without a point count", opt.line));
+      throw InputError(
+          fmt::format("option --line: '{}' ends without a point count", clip(opt.line)));
     }
   } else if (!opt.grid.empty()) {
     std::size_t pos = 0;
@@ -72,13 +73,14 @@ FieldSpec<D> field_spec(const AnalyzeOptions& opt, const Sample<D>& s,
       try {
         spec.cells[static_cast<std::size_t>(d)] = std::stoi(opt.grid.substr(pos, x - pos));
       } catch (const std::exception&) {
-        throw InputError(fmt::format("option --grid: '{}' is not {} counts like 10x10{}", opt.grid,
-                                     D, D == 3 ? "x40" : ""));
+        throw InputError(fmt::format("option --grid: '{}' is not {} counts like 10x10{}",
+                                     clip(opt.grid), D, D == 3 ? "x40" : ""));
       }
       pos = x + 1;
     }
     if (pos <= opt.grid.size())
-      throw InputError(fmt::format("option --grid: '{}' has more than {} counts", opt.grid, D));
+      throw InputError(
+          fmt::format("option --grid: '{}' has more than {} counts", clip(opt.grid), D));
   } else {
     spec.spacing = opt.spacing > 0.0 ? opt.spacing : spec.width;
   }
@@ -143,7 +145,8 @@ void AnalysisParts<D>::add(const Sample<D>& s) {
         wall_names_.push_back(w.name);
     for (const auto& name : opt_.walls)
       if (std::find(wall_names_.begin(), wall_names_.end(), name) == wall_names_.end())
-        throw InputError(fmt::format("option --walls: {} has no wall named '{}'", s.source, name));
+        throw InputError(
+            fmt::format("option --walls: {} has no wall named '{}'", s.source, clip(name)));
   }
   std::vector<double> row{s.time, static_cast<double>(s.step)};
   add_contacts(s);

@@ -26,9 +26,10 @@ std::size_t find_wall(const Sample<D>& s, const std::string& name) {
   std::string names;
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
     if (s.walls[w].name == name) return w;
-    names += (w ? ", " : "") + s.walls[w].name;
+    if (names.size() <= kQuoteLimit) names += (w ? ", " : "") + clip(s.walls[w].name);
   }
-  throw InputError(fmt::format("{}: no wall named '{}' (walls: {})", s.source, name,
+  if (names.size() > kQuoteLimit) names += fmt::format(", ... ({} in all)", s.walls.size());
+  throw InputError(fmt::format("{}: no wall named '{}' (walls: {})", s.source, clip(name),
                                names.empty() ? "none" : names));
 }
 
@@ -55,8 +56,8 @@ double wall_width(const Sample<D>& s, const SampleWall& wall, int axis) {
     up[axis] = 1.0;
     const Eigen::Vector3d h = Eigen::Vector3d(wall.normal.data()).cross(up);
     if (h.norm() < 1e-12)
-      throw InputError(
-          fmt::format("{}: wall '{}' is perpendicular to the profile axis", s.source, wall.name));
+      throw InputError(fmt::format("{}: wall '{}' is perpendicular to the profile axis", s.source,
+                                   clip(wall.name)));
     const Eigen::Vector3d e = h.normalized();
     double lo = std::numeric_limits<double>::max(), hi = -lo;
     for (std::size_t g = 0; g < s.size(); ++g) {

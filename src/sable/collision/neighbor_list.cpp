@@ -48,14 +48,18 @@ void NeighborList<D>::build_cells(const ParticleStore<D>& p) {
   // Cells hold every partner within 2 rmax + skin; never more cells than ~4 per grain, so a
   // huge domain with few grains costs memory O(N), not O(volume).
   cell_size_ = std::max(2.0 * rmax + skin, 1e-300);
-  const Vec ext = (domain_hi - domain_lo).cwiseMax(cell_size_);
+  // A domain wider than 1e300 (or than a double holds: an infinite extent) is cut as if it
+  // were 1e300 wide, and the count of cells stays a double until it is small: a tiny cell in
+  // a huge domain would otherwise overflow the cast to int, or the product of the counts.
+  const Vec ext = (domain_hi - domain_lo).cwiseMax(cell_size_).cwiseMin(1e300);
   for (;;) {
-    std::size_t total = 1;
+    double total = 1.0;
     for (int d = 0; d < D; ++d) {
-      ncell_[d] = std::max(1, static_cast<int>(ext[d] / cell_size_));
-      total *= static_cast<std::size_t>(ncell_[d]);
+      const double cells = ext[d] / cell_size_;
+      ncell_[d] = cells < 1e9 ? std::max(1, static_cast<int>(cells)) : 1'000'000'000;
+      total *= static_cast<double>(ncell_[d]);
     }
-    if (total <= 4 * n + 64) break;
+    if (total <= 4.0 * static_cast<double>(n) + 64.0) break;
     cell_size_ *= 1.26;
   }
   std::size_t total = 1;
@@ -65,9 +69,10 @@ void NeighborList<D>::build_cells(const ParticleStore<D>& p) {
   for (std::size_t k = 0; k < n; ++k) {
     std::size_t c = 0;
     for (int d = D - 1; d >= 0; --d) {
-      // Grains outside the domain fall into the boundary cells: still correct, only slower.
-      int ci = static_cast<int>(std::floor((p.x[k][d] - domain_lo[d]) / cell_size_));
-      ci = std::clamp(ci, 0, ncell_[d] - 1);
+      // Grains outside the domain fall into the boundary cells: still correct, only slower
+      // (NaN into the first: the cast is made on a value known to fit).
+      const double q = std::floor((p.x[k][d] - domain_lo[d]) / cell_size_);
+      const int ci = q > 0.0 ? (q < ncell_[d] - 1.0 ? static_cast<int>(q) : ncell_[d] - 1) : 0;
       c = c * static_cast<std::size_t>(ncell_[d]) + static_cast<std::size_t>(ci);
     }
     cell_of_[k] = static_cast<std::uint32_t>(c);

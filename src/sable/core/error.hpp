@@ -4,8 +4,10 @@
 // not be written 3.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace sable {
 
@@ -28,5 +30,25 @@ class IoError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// How many characters of an input (a name, a key, a value, a path) a message quotes.
+inline constexpr std::size_t kQuoteLimit = 120;
+
+// `text` as quoted in a message: at most `limit` characters, then "... (N characters)" with
+// the whole length, so that a hostile 200,000-character name gives a short message. The cut
+// never splits a UTF-8 sequence, and control characters (a newline in a name) become '?' so
+// that a message stays on its lines.
+inline std::string clip(std::string_view text, std::size_t limit = kQuoteLimit) {
+  std::size_t end = text.size();
+  if (end > limit) {
+    end = limit;
+    while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) --end;
+  }
+  std::string out(text.substr(0, end));
+  for (char& c : out)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  if (end < text.size()) out += "... (" + std::to_string(text.size()) + " characters)";
+  return out;
+}
 
 }  // namespace sable

@@ -14,6 +14,18 @@
 namespace sable {
 namespace {
 
+// Lattice sites outside the region skipped before the lattice gives up, besides 64 per grain
+// asked for: about a tenth of a second of skipping.
+constexpr std::size_t kMaxSkippedSites = std::size_t{1} << 24;
+
+// A count of sites or cells computed in floating point, as a long: a tiny grain in a huge
+// region gives more than a long holds (a cast would be undefined), and no loop or array of
+// 2^62 sites is ever made, so larger counts stop there.
+long count_cast(double x) {
+  constexpr double kMost = 4.0e18;
+  return x >= kMost ? static_cast<long>(kMost) : x > 0.0 ? static_cast<long>(x) : 0L;
+}
+
 class RadiusSampler {
  public:
   RadiusSampler(const RadiusConfig& c, Rng& rng) : c_(c), rng_(rng) {}
@@ -85,7 +97,7 @@ std::vector<GrainSeed> lattice(const GrainsConfig& b, int dim, std::uint64_t see
   const std::array<double, 3> pitch{s, hex ? s * std::sqrt(3.0) / 2.0 : s, s};
   std::array<long, 3> n{1, 1, 1};
   for (int d = 0; d < dim; ++d)
-    n[d] = static_cast<long>(std::floor((hi[d] - lo[d] - s) / pitch[d] + 1.0 + 1e-9));
+    n[d] = count_cast(std::floor((hi[d] - lo[d] - s) / pitch[d] + 1.0 + 1e-9));
   // Jitter draws come in row-major (grain, axis) order, as numpy's uniform(size=(N, dim)).
   NumpyPcg64 pcg(seed);
   Rng jitter_rng(seed ^ 0x5bd1e995ULL);
@@ -95,6 +107,10 @@ std::vector<GrainSeed> lattice(const GrainsConfig& b, int dim, std::uint64_t see
                                          : jitter_rng.uniform(-b.jitter, b.jitter);
   };
   std::vector<GrainSeed> out;
+  // Sites outside the region (a cylinder's corners, rows shifted out, jitter) are skipped; so
+  // many that the lattice would run for minutes means the region cannot take the grains.
+  const std::size_t max_skipped = kMaxSkippedSites + 64 * b.count;
+  std::size_t skipped = 0;
   for (long k = 0; k < n[2] && out.size() < b.count; ++k) {
     for (long j = 0; j < n[1] && out.size() < b.count; ++j) {
       const double shift = hex && (j % 2 == 1) ? 0.5 * s : 0.0;
@@ -106,7 +122,14 @@ std::vector<GrainSeed> lattice(const GrainsConfig& b, int dim, std::uint64_t see
         x[0] += shift;
         const double r = radii.next();
         for (int d = 0; d < dim; ++d) x[d] += jitter();
-        if (!inside_region(b.region, x, r, dim)) continue;
+        if (!inside_region(b.region, x, r, dim)) {
+          if (++skipped > max_skipped)
+            throw InputError(fmt::format(
+                "{}: grains: {} lattice sites lie outside the region for {} grains placed of {} "
+                "(is the jitter of {:g} m larger than the region?)",
+                b.loc.str(), skipped, out.size(), b.count, b.jitter));
+          continue;
+        }
         out.push_back({x, r});
       }
     }
@@ -125,12 +148,11 @@ class InsertionGrid {
   InsertionGrid(const Vec3a& lo, const Vec3a& hi, double cell, int dim, std::size_t expected)
       : lo_(lo), cell_(cell), dim_(dim) {
     for (int d = 0; d < 3; ++d)
-      n_[d] = d < dim ? std::max(1L, static_cast<long>((hi[d] - lo[d]) / cell) + 1) : 1;
+      n_[d] = d < dim ? std::max(1L, count_cast((hi[d] - lo[d]) / cell) + 1) : 1;
     while (static_cast<double>(n_[0]) * static_cast<double>(n_[1]) * static_cast<double>(n_[2]) >
            8.0 * static_cast<double>(expected) + 64.0) {
       cell_ *= 1.5;
-      for (int d = 0; d < dim; ++d)
-        n_[d] = std::max(1L, static_cast<long>((hi[d] - lo[d]) / cell_) + 1);
+      for (int d = 0; d < dim; ++d) n_[d] = std::max(1L, count_cast((hi[d] - lo[d]) / cell_) + 1);
     }
     cells_.resize(static_cast<std::size_t>(n_[0] * n_[1] * n_[2]));
   }
@@ -214,7 +236,8 @@ T parse_number(const std::string& token, const std::string& path, std::size_t li
   std::istringstream ts(token);
   T value{};
   if (!(ts >> value) || !ts.eof())
-    throw InputError(fmt::format("{}:{}: expected {}, found '{}'", path, lineno, what, token));
+    throw InputError(
+        fmt::format("{}:{}: expected {}, found '{}'", path, lineno, what, clip(token)));
   return value;
 }
 
@@ -249,7 +272,7 @@ std::vector<GrainSeed> read_lammps_data(const std::string& path, int dim) {
     const auto id = parse_number<std::uint64_t>(tok[0], path, lineno, "an atom id");
     const double diam = parse_number<double>(tok[2], path, lineno, "a diameter");
     if (!(diam > 0.0))
-      throw InputError(fmt::format("{}:{}: diameter {} must be > 0", path, lineno, tok[2]));
+      throw InputError(fmt::format("{}:{}: diameter {} must be > 0", path, lineno, clip(tok[2])));
     const double x = parse_number<double>(tok[4], path, lineno, "a coordinate");
     const double y = parse_number<double>(tok[5], path, lineno, "a coordinate");
     const double z = parse_number<double>(tok[6], path, lineno, "a coordinate");

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 
 #include "sable/core/error.hpp"
 
@@ -86,6 +87,7 @@ std::vector<std::string> read_text(const File& f, const std::string& what, hid_t
   if (n == 0) return out;
   if (H5Tis_variable_str(ftype) > 0) {
     Id mem = string_type(H5T_VARIABLE);
+    H5Tset_cset(mem.get(), H5Tget_cset(ftype));  // HDF5 converts neither way between the two
     std::vector<char*> buf(n, nullptr);
     if (read(mem.get(), buf.data()) < 0)
       f.fail(fmt::format("cannot read {}: {}", what, error_detail()));
@@ -96,6 +98,7 @@ std::vector<std::string> read_text(const File& f, const std::string& what, hid_t
   // One extra byte per string so a string filling its whole fixed width keeps every character.
   const std::size_t width = H5Tget_size(ftype) + 1;
   Id mem = string_type(width);
+  H5Tset_cset(mem.get(), H5Tget_cset(ftype));
   std::vector<char> buf(n * width, '\0');
   if (read(mem.get(), buf.data()) < 0)
     f.fail(fmt::format("cannot read {}: {}", what, error_detail()));
@@ -145,8 +148,15 @@ File File::open(const std::string& path, const std::string& label, bool writable
   namespace fs = std::filesystem;
   std::error_code ec;
   const auto status = fs::status(path, ec);
-  if (!fs::exists(status)) throw InputError(label + ": file does not exist");
-  if (!fs::is_regular_file(status)) throw InputError(label + ": not a regular file");
+  // A path that names no file may be any text the command line was given: it is quoted
+  // clipped. One that names a file is at most PATH_MAX (4096) bytes.
+  if (!fs::exists(status) || !fs::is_regular_file(status)) {
+    std::string named = label;
+    if (const std::size_t at = named.find(path); at != std::string::npos)
+      named.replace(at, path.size(), clip(path));
+    throw InputError(named +
+                     (fs::exists(status) ? ": not a regular file" : ": file does not exist"));
+  }
   const htri_t is_h5 = H5Fis_hdf5(path.c_str());
   if (is_h5 == 0) throw InputError(label + ": not an HDF5 file (no HDF5 signature found)");
   if (is_h5 < 0) throw InputError(fmt::format("{}: cannot be read: {}", label, error_detail()));
@@ -270,6 +280,51 @@ Id File::open_attr(const std::string& obj, const std::string& name) const {
   return a;
 }
 
+// A dataset's values are read into memory of their size, so that size must be in the file:
+// a crafted dataspace of 2^40 rows over a chunked dataset with no chunk written (HDF5 would
+// read fill values), over a few bytes of compact storage, or over storage said to lie past
+// the end of the file is refused here, naming the dataset, instead of ending in bad_alloc.
+// Values kept in other files (external or virtual storage) are refused: a snapshot is one
+// file, and reading another file it names is not a snapshot reader's business.
+void File::check_stored(hid_t d, hid_t ftype, const std::string& dset, hsize_t elements) const {
+  Id dcpl(H5Dget_create_plist(d), H5Pclose);
+  if (!dcpl.valid())
+    fail(fmt::format("cannot read the storage of dataset '{}': {}", dset, error_detail()));
+  if (H5Pget_layout(dcpl.get()) == H5D_VIRTUAL || H5Pget_external_count(dcpl.get()) > 0)
+    fail(fmt::format("dataset '{}' keeps its values in other files; a snapshot holds its own",
+                     dset));
+  const hsize_t each = H5Tget_size(ftype);
+  if (elements == 0 || each == 0) return;
+  hsize_t file_bytes = 0;
+  if (H5Fget_filesize(file_.get(), &file_bytes) < 0) file_bytes = 0;
+  const hsize_t stored = H5Dget_storage_size(d);
+  const bool filtered = H5Pget_nfilters(dcpl.get()) > 0;
+  const hsize_t backing = std::min(stored, file_bytes);
+  const hsize_t most = std::numeric_limits<hsize_t>::max();
+  const hsize_t limit = !filtered                               ? backing
+                        : backing > most / kMaxCompressionRatio ? most
+                                                                : backing * kMaxCompressionRatio;
+  if (elements > limit / each)
+    fail(fmt::format(
+        "dataset '{}' claims {} values of {} bytes, but the file stores {} bytes of them{} "
+        "(the file is {} bytes): the file is damaged or crafted",
+        dset, elements, each, stored,
+        filtered ? fmt::format(" (compressed: at most {} times as much)", kMaxCompressionRatio)
+                 : "",
+        file_bytes));
+}
+
+namespace {
+
+// rows x max(cols, 1) values, or the largest count when that overflows (refused as unstored).
+hsize_t element_count(hsize_t rows, hsize_t cols) {
+  const hsize_t c = std::max<hsize_t>(cols, 1);
+  return rows > std::numeric_limits<hsize_t>::max() / c ? std::numeric_limits<hsize_t>::max()
+                                                        : rows * c;
+}
+
+}  // namespace
+
 Shape File::shape(const std::string& dset) const {
   Id d = open_dataset(dset);
   Id space(H5Dget_space(d.get()), H5Sclose);
@@ -278,7 +333,10 @@ Shape File::shape(const std::string& dset) const {
   if (rank < 1 || rank > 2)
     fail(fmt::format("dataset '{}' has rank {}, expected 1 or 2", dset, rank));
   H5Sget_simple_extent_dims(space.get(), dims, nullptr);
-  return {dims[0], rank == 2 ? dims[1] : 0};
+  const Shape s{dims[0], rank == 2 ? dims[1] : 0};
+  Id ftype(H5Dget_type(d.get()), H5Tclose);
+  check_stored(d.get(), ftype.get(), dset, element_count(s.rows, s.cols));
+  return s;
 }
 
 Shape File::check_shape(const std::string& dset, hid_t type, hsize_t cols,
@@ -303,6 +361,7 @@ Shape File::check_shape(const std::string& dset, hid_t type, hsize_t cols,
     fail(fmt::format("dataset '{}' has {} rows, expected {}{}", dset, dims[0], *rows,
                      rows_why.empty() ? "" : " (" + rows_why + ")"));
   }
+  check_stored(d.get(), ftype.get(), dset, element_count(dims[0], cols));
   return {dims[0], cols};
 }
 
@@ -333,6 +392,12 @@ std::string File::read_attr_string(const std::string& obj, const std::string& na
   Id space(H5Aget_space(a.get()), H5Sclose);
   const std::string what = fmt::format("attribute '{}' on '{}'", name, obj);
   if (H5Sget_simple_extent_npoints(space.get()) != 1) fail(what + " is not a single string");
+  // The string is read into memory of its declared width, which must be in the file.
+  if (H5Tget_size(ftype.get()) > H5Aget_storage_size(a.get()))
+    fail(
+        fmt::format("{} claims a string of {} bytes, but the file stores {}: the file is "
+                    "damaged or crafted",
+                    what, H5Tget_size(ftype.get()), H5Aget_storage_size(a.get())));
   return read_text(*this, what, ftype.get(), space.get(), 1,
                    [&](hid_t mem, void* buf) { return H5Aread(a.get(), mem, buf); })[0];
 }
@@ -343,6 +408,7 @@ std::string File::read_string(const std::string& dset) const {
   Id space(H5Dget_space(d.get()), H5Sclose);
   const std::string what = fmt::format("dataset '{}'", dset);
   if (H5Sget_simple_extent_npoints(space.get()) != 1) fail(what + " is not a single string");
+  check_stored(d.get(), ftype.get(), dset, 1);
   return read_text(*this, what, ftype.get(), space.get(), 1, [&](hid_t mem, void* buf) {
     return H5Dread(d.get(), mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf);
   })[0];
@@ -355,6 +421,7 @@ std::vector<std::string> File::read_strings(const std::string& dset) const {
   const std::string what = fmt::format("dataset '{}'", dset);
   if (H5Sget_simple_extent_ndims(space.get()) != 1) fail(what + " is not a 1-D list of strings");
   const auto n = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
+  check_stored(d.get(), ftype.get(), dset, n);
   return read_text(*this, what, ftype.get(), space.get(), n, [&](hid_t mem, void* buf) {
     return H5Dread(d.get(), mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf);
   });

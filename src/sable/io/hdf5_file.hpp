@@ -70,6 +70,11 @@ inline hid_t native_type<std::int32_t>() {
   return H5T_NATIVE_INT32;
 }
 
+// deflate's largest compression ratio: a filtered (compressed) dataset may hold at most this
+// many times its stored bytes. Sable writes unfiltered datasets, whose values must all be
+// stored (see File::check_stored).
+inline constexpr hsize_t kMaxCompressionRatio = 1032;
+
 // Shape of a numeric dataset: rows x cols, cols = 0 for a 1-D dataset.
 struct Shape {
   hsize_t rows = 0;
@@ -146,6 +151,9 @@ class File {
   void read_attr_raw(const std::string& obj, const std::string& name, hid_t type,
                      void* value) const;
   Id open_dataset(const std::string& dset) const;
+  // Refuses a dataset whose `elements` values of file type `ftype` are not all in the file,
+  // before anything that size is allocated.
+  void check_stored(hid_t d, hid_t ftype, const std::string& dset, hsize_t elements) const;
   Id open_attr(const std::string& obj, const std::string& name) const;
 
   Id file_;

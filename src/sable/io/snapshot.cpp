@@ -201,7 +201,7 @@ h5::File open_snapshot(const std::string& path) {
   const std::string format = f.read_attr_string("/", "format");
   if (format != kSnapshotFormat) {
     f.fail(fmt::format("not a Sable snapshot: attribute 'format' on '/' is \"{}\", expected \"{}\"",
-                       format, kSnapshotFormat));
+                       clip(format), kSnapshotFormat));
   }
   const auto version = f.read_attr<std::uint32_t>("/", "version");
   if (version != kSnapshotVersion) {
@@ -287,7 +287,18 @@ ParticleStore<D> read_particles(const h5::File& f, std::size_t materials) {
   p.mass = f.read<double>("/particles/mass", 0, n, why);
   p.material = f.read<MaterialIndex>("/particles/material", 0, n, why);
   p.flags = f.read<std::uint8_t>("/particles/flags", 0, n, why);
+  // A crash snapshot may hold non-finite positions and velocities (it is written to be looked
+  // at), but sizes and masses never change in a run: the cell grid and every kernel rely on
+  // them.
   for (std::size_t k = 0; k < p.size(); ++k) {
+    const double r = p.radius[k], m = p.mass[k], im = p.inv_mass[k], ii = p.inv_inertia[k];
+    if (!(std::isfinite(r) && r > 0.0 && std::isfinite(m) && m > 0.0 && std::isfinite(im) &&
+          im >= 0.0 && std::isfinite(ii) && ii >= 0.0))
+      f.fail(
+          fmt::format("grain {} has radius {}, mass {}, inverse mass {} and inverse inertia {}; "
+                      "expected a finite radius and mass > 0 and finite inverses >= 0 "
+                      "('/particles/radius', 'mass', 'inv_mass', 'inv_inertia')",
+                      k, r, m, im, ii));
     if (p.material[k] >= materials) {
       f.fail(
           fmt::format("dataset '/particles/material' row {} is {}, but the scenario defines {} "
@@ -312,7 +323,7 @@ void read_walls(const h5::File& f, const std::vector<Wall<D>>& walls, Loaded<D>&
       f.fail(
           fmt::format("dataset '/walls/names' row {} is \"{}\", but the scenario's wall {} is "
                       "\"{}\"",
-                      k, names[k], k, walls[k].name));
+                      k, clip(names[k]), k, clip(walls[k].name)));
     }
   }
   const auto w = static_cast<hsize_t>(walls.size());
@@ -366,10 +377,27 @@ void read_neighbors(const h5::File& f, std::size_t n, std::size_t walls, Neighbo
   const auto hi = f.read<double>("/neighbors/domain_hi", 0, D, "one per dimension");
   nl.domain_lo = Eigen::Map<const Vec>(lo.data());
   nl.domain_hi = Eigen::Map<const Vec>(hi.data());
+  // The cell grid is cut from these bounds (any order: an empty extent gives one cell).
+  for (int d = 0; d < D; ++d)
+    if (!(std::isfinite(lo[d]) && std::isfinite(hi[d])))
+      f.fail(
+          fmt::format("'/neighbors/domain_lo' and 'domain_hi' are {} and {} on axis {}; "
+                      "expected finite bounds",
+                      lo[d], hi[d], d));
   nl.skin = f.read_attr<double>("/neighbors", "skin");
+  if (!(std::isfinite(nl.skin) && nl.skin >= 0.0))
+    f.fail(fmt::format("attribute 'skin' on '/neighbors' is {}; expected a finite skin >= 0",
+                       nl.skin));
   nl.builds = f.read_attr<std::uint64_t>("/neighbors", "builds");
+  // Reference positions of the last build: one per grain (wall), or none (rebuild at once).
   nl.x_ref = read_rows<Vec>(f, "/neighbors/x_ref");
   nl.wall_ref = read_rows<Vec>(f, "/neighbors/wall_ref");
+  if (!nl.x_ref.empty() && nl.x_ref.size() != n)
+    f.fail(fmt::format("dataset '/neighbors/x_ref' has {} rows, expected 0 or {} (one per grain)",
+                       nl.x_ref.size(), n));
+  if (!nl.wall_ref.empty() && nl.wall_ref.size() != walls)
+    f.fail(fmt::format("dataset '/neighbors/wall_ref' has {} rows, expected 0 or {} (one per wall)",
+                       nl.wall_ref.size(), walls));
   auto& pl = nl.pairs;
   pl.i = f.read<std::uint32_t>("/neighbors/pairs/i", 0);
   const auto np = static_cast<hsize_t>(pl.i.size());
@@ -448,6 +476,9 @@ void read_clock(const h5::File& f, Loaded<D>& out) {
   out.pos.stage = f.read_attr<std::uint32_t>("/", "stage");
   out.pos.stage_step = f.read_attr<std::uint64_t>("/", "stage_step");
   out.hash = f.read_attr<std::uint64_t>("/", "state_hash");
+  if (!(std::isfinite(out.time) && std::isfinite(out.dt)))
+    f.fail(fmt::format("attributes 'time' and 'dt' on '/' are {} and {}; expected finite values",
+                       out.time, out.dt));
   const auto rng = f.read<std::uint64_t>("/rng_state", 0, 4, "the 4 words of xoshiro256**");
   std::copy(rng.begin(), rng.end(), out.rng.begin());
 }

@@ -45,7 +45,7 @@ double wall_area(const World<D>& w, std::size_t k) {
   const int axis = wall.kind == WallKind::kPlane ? wall_axis(wall) : -1;
   if (axis < 0)
     throw InputError(fmt::format(
-        "wall '{}': stress control needs a plane wall facing a coordinate axis", wall.name));
+        "wall '{}': stress control needs a plane wall facing a coordinate axis", clip(wall.name)));
   double area = D == 2 ? w.thickness : 1.0;
   for (int d = 0; d < D; ++d)
     if (d != axis) area *= extent(w, d);
@@ -129,7 +129,7 @@ std::vector<WallBody> wall_bodies(const World<D>& w, const std::vector<ServoTarg
     if (!(mass > 0.0))
       throw InputError(fmt::format(
           "wall '{}': no grains and no force to set its mass from; give servo_wall_mass",
-          w.walls[t.wall].name));
+          clip(w.walls[t.wall].name)));
     out.push_back({t.wall, force, mass, s.max_velocity});
   }
   return out;
@@ -144,7 +144,7 @@ double servo_error(const World<D>& w, const std::vector<ServoTarget>& targets,
     if (scale <= 0.0)
       throw InputError(fmt::format(
           "wall '{}': a 0 Pa target needs a stress scale (stress_scale) to measure its error",
-          w.walls[t.wall].name));
+          clip(w.walls[t.wall].name)));
     worst = std::max(worst, std::abs(wall_normal_stress(w, t.wall) - t.stress) / scale);
   }
   return worst;

@@ -225,6 +225,16 @@ struct ScenarioConfig {
 // The warnings of ScenarioConfig::warnings (scenario_warnings.cpp).
 std::vector<std::string> scenario_warnings(const ScenarioConfig& cfg);
 
+// Largest scenario read: 64 MiB, a thousand times the largest example (a list of a million
+// grain positions is about 40 MB). load_scenario() refuses a larger file before reading it.
+inline constexpr std::size_t kMaxScenarioBytes = std::size_t{64} << 20;
+// Most grains a scenario may ask for, all [[grains]] blocks together: 10^8. At about 0.5 KB a
+// grain with its contact lists that is some 50 GB, beyond the machines Sable runs on, while a
+// count of 10^12 (a typo, a fuzzer) would otherwise run the generators out of memory.
+inline constexpr std::uint64_t kMaxGrains = 100'000'000;
+// Most tries per grain of random insertion (max_attempts): 10^6, a thousand times the default.
+inline constexpr std::uint64_t kMaxInsertionAttempts = 1'000'000;
+
 // Parse and validate. Throws InputError naming file:line:column, the key and what was expected.
 ScenarioConfig parse_scenario(const std::string& text, const std::string& path);
 ScenarioConfig load_scenario(const std::string& path);

@@ -54,10 +54,10 @@ void check_walls(const ScenarioConfig& cfg, const World<D>& w) {
       const double d = wall.distance(p.x[k], n);
       if (d < 0.0)
         behind.add(fmt::format("{} is behind wall '{}': its centre lies {:.4g} m on the far side",
-                               grain_text(p, k), wall.name, -d));
+                               grain_text(p, k), clip(wall.name), -d));
       else if (p.radius[k] - d > tol * p.radius[k])
         overlapping.add(fmt::format("{} overlaps wall '{}' by {:.4g} m ({:.3g} of its radius)",
-                                    grain_text(p, k), wall.name, p.radius[k] - d,
+                                    grain_text(p, k), clip(wall.name), p.radius[k] - d,
                                     (p.radius[k] - d) / p.radius[k]));
     }
   }

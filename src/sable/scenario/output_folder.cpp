@@ -49,7 +49,7 @@ bool process_alive(long pid) {
 void remove_or_throw(const fs::path& p) {
   std::error_code ec;
   fs::remove_all(p, ec);
-  if (ec) throw IoError(fmt::format("cannot delete '{}': {}", p.string(), ec.message()));
+  if (ec) throw IoError(fmt::format("cannot delete '{}': {}", clip(p.string()), ec.message()));
 }
 
 std::string listing(const std::vector<std::string>& names) {
@@ -73,7 +73,7 @@ void remove_stale_temporaries(const fs::path& dir,
     }
   }
   if (!removed.empty())
-    log(fmt::format("{}: deleted {} temporaries of interrupted writes ({})", dir.string(),
+    log(fmt::format("{}: deleted {} temporaries of interrupted writes ({})", clip(dir.string()),
                     removed.size(), listing(removed)));
 }
 
@@ -129,9 +129,9 @@ void prepare_fresh(const OutputFolderRequest& req,
         "output folder '{}' already holds a run's outputs ({}); give another folder (--out or "
         "[output].dir), or --overwrite to delete them first (only series.csv, the .pvd files, "
         "vtk/ and snapshots/ are deleted)",
-        req.dir, listing(present)));
+        clip(req.dir), listing(present)));
   for (const auto& name : present) remove_or_throw(dir / name);
-  log(fmt::format("--overwrite: deleted {} in {}", listing(present), req.dir));
+  log(fmt::format("--overwrite: deleted {} in {}", listing(present), clip(req.dir)));
 }
 
 void prepare_resume(const OutputFolderRequest& req,
@@ -147,10 +147,10 @@ void prepare_resume(const OutputFolderRequest& req,
         "output folder '{}' holds {} outputs of steps after the resumed step {} ({}): a "
         "continuation of this run that the resume would mix with its own; give another folder "
         "(--out), or --overwrite to delete those files first",
-        req.dir, names.size(), *req.resume_step, listing(names)));
+        clip(req.dir), names.size(), *req.resume_step, listing(names)));
   for (const auto& p : later) remove_or_throw(p);
   log(fmt::format("--overwrite: deleted {} outputs of steps after {} in {} ({})", names.size(),
-                  *req.resume_step, req.dir, listing(names)));
+                  *req.resume_step, clip(req.dir), listing(names)));
 }
 
 }  // namespace
@@ -171,7 +171,7 @@ void prepare_output_folder(const OutputFolderRequest& req,
                            const std::function<void(const std::string&)>& log) {
   std::error_code ec;
   if (fs::exists(req.dir, ec) && !fs::is_directory(req.dir, ec))
-    throw InputError(fmt::format("output folder '{}' is a file, expected a folder", req.dir));
+    throw InputError(fmt::format("output folder '{}' is a file, expected a folder", clip(req.dir)));
   remove_stale_temporaries(req.dir, log);
   if (req.resume_step)
     prepare_resume(req, log);

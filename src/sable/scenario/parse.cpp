@@ -4,10 +4,12 @@
 // with its type and range checked. Cross references (material names, wall names) are checked
 // once the tables they point to have been read, so [simulation] comes first (the dimension
 // sets the length of every vector), then materials, then what refers to them.
+#include <fmt/format.h>
+
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <utility>
 
 #include "sable/core/error.hpp"
@@ -27,8 +29,9 @@ constexpr Range kPoisson{0.0, 0.5, false, true};
 constexpr Range kRestitution{0.0, 1.0, true, false};
 constexpr Range kUnitOpenHi{0.0, 1.0, false, true};
 
+// A name or path read from the input, quoted in a message (clipped: see sable::clip).
 std::string in_quotes(const std::string& s) {
-  return "\"" + s + "\"";
+  return "\"" + clip(s) + "\"";
 }
 
 // --- [simulation], [domain] -----------------------------------------------------------------
@@ -138,10 +141,10 @@ void check_material_name(const toml::node& node, const std::string& key, const s
   std::vector<std::string> known;
   for (const MaterialConfig& m : materials) {
     if (m.material.name == name) return;
-    known.push_back(in_quotes(m.material.name));
+    known.push_back(m.material.name);
   }
   detail::fail_value(node, key, file,
-                     "the name of a [[material]] (known: " + detail::join(known) + ")");
+                     "the name of a [[material]] (known: " + detail::join_names(known, true) + ")");
 }
 
 std::string material_ref(const Table& t, const std::vector<MaterialConfig>& materials) {
@@ -389,7 +392,11 @@ void parse_generator_keys(const Table& g, GrainsConfig& gc, int dim) {
   if (gc.generator == "lattice" || gc.generator == "random") {
     gc.region = parse_region(g, dim);
     if (!g.has("count")) g.fail_missing("count", "an integer >= 1");
-    gc.count = static_cast<std::size_t>(*g.unsigned_int("count", 1));
+    const std::uint64_t count = *g.unsigned_int("count", 1);
+    if (count > kMaxGrains)
+      g.fail("count", fmt::format("an integer in [1, {}] (the most grains a scenario may ask for)",
+                                  kMaxGrains));
+    gc.count = static_cast<std::size_t>(count);
     gc.seed = g.unsigned_int("seed");
   }
   if (gc.generator == "lattice") {
@@ -399,6 +406,8 @@ void parse_generator_keys(const Table& g, GrainsConfig& gc, int dim) {
     gc.arrangement = g.choice("arrangement", {"square", "hexagonal"}, gc.arrangement);
   } else if (gc.generator == "random") {
     gc.max_attempts = static_cast<std::size_t>(g.unsigned_or("max_attempts", gc.max_attempts, 1));
+    if (gc.max_attempts > kMaxInsertionAttempts)
+      g.fail("max_attempts", fmt::format("an integer in [1, {}]", kMaxInsertionAttempts));
   } else if (gc.generator == "list") {
     parse_positions(g, gc, dim);
   } else {
@@ -522,7 +531,7 @@ void parse_wall_velocity(const Table& s, StageConfig& st, const std::vector<std:
   if (!t) return;
   const std::string expected = names.empty()
                                    ? std::string("a wall name (there are no [[wall]] tables)")
-                                   : "a wall name (known: " + detail::join(names) + ")";
+                                   : "a wall name (known: " + detail::join_names(names) + ")";
   for (auto&& [k, v] : t->raw()) {
     const std::string name(k.str());
     const std::string key = t->key_path(name);
@@ -557,8 +566,8 @@ void parse_wall_stress(const Table& s, StageConfig& st, const std::vector<std::s
     const std::string key = t->key_path(name);
     if (!detail::contains(names, name) && !detail::contains(names, name + ".xlo"))
       detail::fail_at(k.source(), s.file(),
-                      "unknown wall " + key +
-                          ": expected a wall or box name (known: " + detail::join(names) + ")");
+                      "unknown wall " + key + ": expected a wall or box name (known: " +
+                          detail::join_names(names) + ")");
     const auto value = t->number(name, kNonNegative);
     if (!value) detail::fail_at(k.source(), s.file(), key + ": expected a stress in Pa (>= 0)");
     st.wall_stress[name] = *value;
@@ -685,6 +694,9 @@ void check_rolling(const Table& root, const ScenarioConfig& cfg) {
 }  // namespace
 
 ScenarioConfig parse_scenario(const std::string& text, const std::string& path) {
+  if (text.size() > kMaxScenarioBytes)
+    throw InputError(fmt::format("{}: the scenario is {} bytes; at most {} (64 MiB) are read",
+                                 clip(path), text.size(), kMaxScenarioBytes));
   const toml::table doc = detail::parse_document(text, path);
   const Table root(doc, "", path);
   root.check_keys({"simulation", "domain", "material", "material_pair", "contact", "cd", "grains",
@@ -703,8 +715,17 @@ ScenarioConfig parse_scenario(const std::string& text, const std::string& path) 
                       "a time step: contact dynamics has no automatic dt (choose "
                       "it so grains move a small fraction of a radius per step)");
   }
-  for (const Table& g : root.table_array("grains"))
+  std::uint64_t grains = 0;
+  for (const Table& g : root.table_array("grains")) {
     cfg.grains.push_back(parse_grains_entry(g, cfg));
+    const GrainsConfig& gc = cfg.grains.back();
+    grains += gc.count + gc.positions.size();
+    if (grains > kMaxGrains)
+      detail::fail_at(g.raw().source(), path,
+                      fmt::format("{}: the [[grains]] blocks so far ask for {} grains; a scenario "
+                                  "may ask for at most {}",
+                                  g.name(), grains, kMaxGrains));
+  }
   std::vector<std::string> wall_names;
   cfg.walls = parse_walls(root, cfg, wall_names);
   const auto stages = root.table_array("stage");
@@ -727,17 +748,34 @@ ScenarioConfig parse_scenario(const std::string& text, const std::string& path) 
 }
 
 ScenarioConfig load_scenario(const std::string& path) {
+  const std::string name = clip(path);
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) {
-    throw InputError(path + ": cannot read scenario: no such file");
+    throw InputError(name + ": cannot read scenario: no such file");
   }
   if (!std::filesystem::is_regular_file(path, ec)) {
-    throw InputError(path + ": cannot read scenario: not a regular file");
+    throw InputError(name + ": cannot read scenario: not a regular file");
   }
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  const auto too_large = [&](const std::string& bytes) {
+    return InputError(
+        fmt::format("{}: cannot read scenario: the file is {} bytes; at most {} "
+                    "(64 MiB) are read",
+                    name, bytes, kMaxScenarioBytes));
+  };
+  if (!ec && size > kMaxScenarioBytes) throw too_large(std::to_string(size));
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot read scenario: the file cannot be opened");
-  std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  if (in.bad()) throw InputError(path + ": cannot read scenario: read failed");
+  if (!in) throw InputError(name + ": cannot read scenario: the file cannot be opened");
+  std::string text;
+  if (!ec) text.reserve(static_cast<std::size_t>(size));
+  // Read in blocks up to the limit: a file that grew since file_size() is refused too.
+  std::array<char, 1 << 16> block;
+  while (in.read(block.data(), block.size()) || in.gcount() > 0) {
+    text.append(block.data(), static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxScenarioBytes)
+      throw too_large("over " + std::to_string(kMaxScenarioBytes));
+  }
+  if (in.bad()) throw InputError(name + ": cannot read scenario: read failed");
   return parse_scenario(text, path);
 }
 

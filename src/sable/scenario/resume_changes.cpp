@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "sable/core/error.hpp"
 #include "sable/scenario/toml_reader.hpp"
 
 namespace sable {
@@ -132,8 +133,8 @@ std::vector<ScenarioChange> scenario_changes(const std::string& old_text,
 std::string describe_changes(const std::vector<ScenarioChange>& changes) {
   std::string s;
   for (std::size_t k = 0; k < changes.size() && k < kListed; ++k)
-    s += fmt::format("{}{} ({} -> {})", k ? ", " : "", changes[k].key, changes[k].before,
-                     changes[k].after);
+    s += fmt::format("{}{} ({} -> {})", k ? ", " : "", clip(changes[k].key),
+                     clip(changes[k].before), clip(changes[k].after));
   if (changes.size() > kListed) s += fmt::format(" and {} more", changes.size() - kListed);
   return s;
 }

@@ -6,12 +6,18 @@
 #include <utility>
 
 #include "sable/core/error.hpp"
+#include "sable/scenario/toml_scan.hpp"
 
 namespace sable::detail {
 
 namespace {
 
+// A value is shown in at most about 80 characters; a long string or key in it keeps its
+// first 40 and its length (sable::clip).
 constexpr std::size_t kShowLimit = 80;
+// toml++'s syntax messages quote the input (a key it cannot redefine): bounded like our own,
+// with room for toml++'s words around the quote.
+constexpr std::size_t kSyntaxQuoteLimit = 2 * kQuoteLimit;
 
 std::string quoted(std::string_view s) {
   std::string out = "\"";
@@ -37,13 +43,13 @@ void append_shown(std::string& out, const toml::node& node) {
     for (auto&& [k, v] : *tbl) {
       if (!first) out += ", ";
       first = false;
-      out += std::string(k.str()) + " = ";
+      out += clip(k.str(), kShowLimit / 2) + " = ";
       append_shown(out, v);
       if (out.size() > kShowLimit) break;
     }
     out += " }";
   } else if (const auto* s = node.as_string()) {
-    out += quoted(s->get());
+    out += quoted(clip(s->get(), kShowLimit / 2));
   } else if (const auto* i = node.as_integer()) {
     out += std::to_string(i->get());
   } else if (const auto* f = node.as_floating_point()) {
@@ -88,7 +94,11 @@ std::string format_number(double x) {
 std::string show(const toml::node& node) {
   std::string out;
   append_shown(out, node);
-  if (out.size() > kShowLimit) out = out.substr(0, kShowLimit) + "...";
+  if (out.size() > kShowLimit) {
+    std::size_t cut = kShowLimit;  // not inside a UTF-8 sequence
+    while (cut > 0 && (static_cast<unsigned char>(out[cut]) & 0xC0) == 0x80) --cut;
+    out = out.substr(0, cut) + "...";
+  }
   return out;
 }
 
@@ -125,6 +135,16 @@ std::string join(const std::vector<std::string>& items) {
   return out;
 }
 
+std::string join_names(const std::vector<std::string>& names, bool quote) {
+  std::string out;
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    if (out.size() > kQuoteLimit)
+      return out + ", ... (" + std::to_string(names.size()) + " in all)";
+    out += (k == 0 ? "" : ", ") + (quote ? quoted(clip(names[k])) : clip(names[k]));
+  }
+  return out;
+}
+
 bool contains(const std::vector<std::string>& items, const std::string& item) {
   for (const auto& i : items) {
     if (i == item) return true;
@@ -133,17 +153,18 @@ bool contains(const std::vector<std::string>& items, const std::string& item) {
 }
 
 toml::table parse_document(const std::string& text, const std::string& path) {
+  scan_toml_depth(text, path);  // toml++ has no bound on the parts of a dotted key
 #if TOML_EXCEPTIONS
   try {
     return toml::parse(std::string_view(text), std::string_view(path));
   } catch (const toml::parse_error& e) {
-    fail_at(e.source(), path, "TOML syntax error: " + std::string(e.description()));
+    fail_at(e.source(), path, "TOML syntax error: " + clip(e.description(), kSyntaxQuoteLimit));
   }
 #else
   toml::parse_result result = toml::parse(std::string_view(text), std::string_view(path));
   if (!result) {
     fail_at(result.error().source(), path,
-            "TOML syntax error: " + std::string(result.error().description()));
+            "TOML syntax error: " + clip(result.error().description(), kSyntaxQuoteLimit));
   }
   return std::move(result).table();
 #endif
@@ -229,7 +250,7 @@ Table::Table(const toml::table& table, std::string name, std::string file)
     : table_(&table), name_(std::move(name)), file_(std::move(file)) {}
 
 std::string Table::key_path(std::string_view key) const {
-  return name_.empty() ? std::string(key) : name_ + "." + std::string(key);
+  return name_.empty() ? clip(key) : name_ + "." + clip(key);
 }
 
 const toml::node* Table::find(std::string_view key) const {

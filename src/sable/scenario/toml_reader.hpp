@@ -44,6 +44,10 @@ std::string show(const toml::node& node);
 std::string describe_type(const toml::node& node);
 // "a, b, c"
 std::string join(const std::vector<std::string>& items);
+// Names read from the input, for "known: ..." lists: each clipped (sable::clip) and, with
+// `quote`, in double quotes; the list cut once past kQuoteLimit characters, with the number
+// of names in all.
+std::string join_names(const std::vector<std::string>& names, bool quote = false);
 bool contains(const std::vector<std::string>& items, const std::string& item);
 SourceLoc make_loc(const toml::source_region& region, const std::string& file);
 
@@ -68,7 +72,8 @@ std::string to_string(const toml::node& node, const std::string& key, const std:
 // An array of exactly n numbers, padded with zeros to 3 components.
 Vec3a to_vector(const toml::node& node, const std::string& key, const std::string& file, int n);
 
-// One TOML table with its dotted name (empty for the document root) and file.
+// One TOML table with its dotted name (empty for the document root) and file. Every key the
+// input names enters the name (and messages) clipped: see sable::clip.
 class Table {
  public:
   Table(const toml::table& table, std::string name, std::string file);
