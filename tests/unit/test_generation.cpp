@@ -18,6 +18,7 @@
 #include "sable/core/error.hpp"
 #include "sable/generation/generate.hpp"
 #include "sable/scenario/config.hpp"
+#include "test_data.hpp"
 
 namespace {
 
@@ -241,13 +242,13 @@ TEST(GenerationLattice, TooSmallRegionNamesTheBlock) {
 // it rounds each coordinate by at most 5e-10 relative. Radii compare exactly (1.5e-3 / 2).
 TEST_F(GenerationFiles, PourBedMatchesGenLatticePy) {
   const std::string script = SABLE_SOURCE_DIR "/../shared/peers/liggghts/gen_lattice.py";
-  if (!fs::exists(script)) GTEST_SKIP() << "gen_lattice.py not found at " << script;
-  if (!fs::exists("/usr/bin/python3")) GTEST_SKIP() << "/usr/bin/python3 not found";
+  SABLE_NEEDS(fs::exists(script), "gen_lattice.py not found at " << script);
+  SABLE_NEEDS(fs::exists("/usr/bin/python3"), "/usr/bin/python3 not found");
   const std::string data = (dir_ / "pour.data").string();
   const std::string cmd = "/usr/bin/python3 '" + script + "' '" + data + "' 20000 >/dev/null 2>&1";
   if (std::system(cmd.c_str()) != 0) {
     if (std::system("/usr/bin/python3 -c 'import numpy' >/dev/null 2>&1") != 0)
-      GTEST_SKIP() << "numpy is not available to /usr/bin/python3";
+      SABLE_NEEDS(false, "numpy is not available to /usr/bin/python3");
     FAIL() << "gen_lattice.py failed: " << cmd;
   }
 

@@ -26,6 +26,7 @@
 #include "sable/io/snapshot.hpp"
 #include "sable/io/vtk.hpp"
 #include "sable/world/state_hash.hpp"
+#include "test_data.hpp"
 
 namespace {
 
@@ -242,19 +243,19 @@ void check_vtk_outputs(const std::string& dir) {
 }
 
 TEST_F(IoTest, VtkFilesParseWithMatchingCounts2D) {
-  if (!fs::exists("/usr/bin/python3")) GTEST_SKIP() << "needs /usr/bin/python3";
+  SABLE_NEEDS(fs::exists("/usr/bin/python3"), "needs /usr/bin/python3");
   check_vtk_outputs<2>(dir_.string());
 }
 
 TEST_F(IoTest, VtkFilesParseWithMatchingCounts3D) {
-  if (!fs::exists("/usr/bin/python3")) GTEST_SKIP() << "needs /usr/bin/python3";
+  SABLE_NEEDS(fs::exists("/usr/bin/python3"), "needs /usr/bin/python3");
   check_vtk_outputs<3>(dir_.string());
 }
 
 // Guards: a file larger than the writer's 64 KiB pieces (8,000 extra grains: ~0.5 MB of
 // text) comes out whole, one well-formed file with every grain, as a small one does.
 TEST_F(IoTest, VtkFileWrittenInPiecesIsWhole) {
-  if (!fs::exists("/usr/bin/python3")) GTEST_SKIP() << "needs /usr/bin/python3";
+  SABLE_NEEDS(fs::exists("/usr/bin/python3"), "needs /usr/bin/python3");
   World<3> w = make_world<3>();
   for (int k = 0; k < 8000; ++k)
     w.particles.add(Eigen::Vector3d(0.001 * (k % 100), 0.001 * (k / 100), 0.2), kR, 2500.0, 0,
@@ -270,7 +271,7 @@ TEST_F(IoTest, VtkFileWrittenInPiecesIsWhole) {
 
 // Guards: an empty world still writes valid files (zero points, zero cells).
 TEST_F(IoTest, VtkEmptyWorld) {
-  if (!fs::exists("/usr/bin/python3")) GTEST_SKIP() << "needs /usr/bin/python3";
+  SABLE_NEEDS(fs::exists("/usr/bin/python3"), "needs /usr/bin/python3");
   World<3> w = make_world<3>(false);
   sable::write_grains_vtp(w, path("g.vtp"));
   sable::write_contacts_vtp(w, path("c.vtp"));
@@ -281,7 +282,7 @@ TEST_F(IoTest, VtkEmptyWorld) {
 // Guards: the .pvd collection lists every added step, stays valid XML after each rewrite, and
 // a resumed series keeps only the steps up to the resume time (no duplicates in ParaView).
 TEST_F(IoTest, PvdSeriesAddAndResume) {
-  if (!fs::exists("/usr/bin/python3")) GTEST_SKIP() << "needs /usr/bin/python3";
+  SABLE_NEEDS(fs::exists("/usr/bin/python3"), "needs /usr/bin/python3");
   const std::string pvd = path("grains.pvd");
   {
     sable::PvdSeries series(pvd);

@@ -1,4 +1,4 @@
-// Wetting a sample (contact/liquid.hpp): how the liquid of a water content is shared among
+// Wetting a sample (world/liquid.hpp): how the liquid of a water content is shared among
 // the eligible pairs, and the scenario and snapshot errors around capillary cohesion.
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <sstream>
 #include <vector>
 
-#include "sable/contact/liquid.hpp"
+#include "sable/world/liquid.hpp"
 #include "sable/core/error.hpp"
 #include "sable/io/snapshot.hpp"
 #include "sable/scenario/build.hpp"

@@ -1,6 +1,7 @@
 // NumpyPcg64 must reproduce numpy.random.default_rng(seed) bit for bit, so that Sable can draw
 // the same lattice jitter as the LIGGGHTS benchmark script (shared/peers/liggghts/gen_lattice.py).
 #include "sable/generation/numpy_pcg64.hpp"
+#include "test_data.hpp"
 
 #include <gtest/gtest.h>
 
@@ -117,9 +118,9 @@ TEST(NumpyPcg64, SixtyThousandthValueMatchesNumpy) {
 // Full check against the live numpy: the whole jitter array of gen_lattice.py, row-major.
 TEST(NumpyPcg64, GenLatticeJitterMatchesLiveNumpy) {
   const char* python = "/usr/bin/python3";
-  if (!std::filesystem::exists(python) ||
-      std::system("/usr/bin/python3 -c 'import numpy' >/dev/null 2>&1") != 0)
-    GTEST_SKIP() << "/usr/bin/python3 with numpy not available; live comparison skipped";
+  SABLE_NEEDS(std::filesystem::exists(python) &&
+                  std::system("/usr/bin/python3 -c 'import numpy' >/dev/null 2>&1") == 0,
+              "/usr/bin/python3 with numpy not available; live comparison skipped");
 
   std::string path = (std::filesystem::temp_directory_path() / "sable_numpy_pcg64_XXXXXX").string();
   const int fd = mkstemp(path.data());

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "run_helpers.hpp"
+#include "sable/analysis/analyze.hpp"
 #include "sable/io/snapshot.hpp"
 #include "sable/scenario/build.hpp"
 #include "sable/scenario/config.hpp"
@@ -281,6 +282,15 @@ TEST(Cli, BadScenarioNamesThePlace) {
   EXPECT_EQ(cli("run " + file.string(), out), 2);
   EXPECT_FALSE(fs::exists(dir / "out")) << "a rejected scenario must write nothing";
   fs::remove_all(dir);
+}
+
+// `sable analyze --help` names every analysis --only accepts (the table run_analysis checks
+// names against): a help text written by hand once left out janssen.
+TEST(Cli, AnalyzeHelpListsEveryAnalysis) {
+  std::string out;
+  EXPECT_EQ(cli("analyze --help", out), 0);
+  for (const char* a : sable::kAnalyses)
+    EXPECT_NE(out.find(std::string(" ") + a), std::string::npos) << a << " missing from\n" << out;
 }
 
 // Missing files and foreign snapshots are input errors (status 2), not crashes.

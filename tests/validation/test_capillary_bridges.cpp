@@ -1,4 +1,4 @@
-// Capillary bridges in DEM (contact/capillary.hpp, contact/liquid.hpp): two wetted spheres
+// Capillary bridges in DEM (contact/capillary.hpp, world/liquid.hpp): two wetted spheres
 // pulled apart and brought back, a wet pair settling where elastic repulsion balances the
 // capillary attraction, and the liquid balance of a wet packing that rearranges.
 #include <gtest/gtest.h>
@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "../unit/run_helpers.hpp"
-#include "sable/contact/liquid.hpp"
+#include "sable/world/liquid.hpp"
 #include "sable/dem/dem_solver.hpp"
 #include "sable/io/snapshot.hpp"
 #include "sable/scenario/build.hpp"

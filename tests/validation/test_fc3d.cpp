@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "../unit/test_data.hpp"
 #include "sable/cd/fc3d.hpp"
 #include "sable/core/error.hpp"
 
@@ -99,9 +100,9 @@ Eigen::VectorXd reactions(const MatrixProblem& p) {
 class Fc3dProblem : public testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {
-    if (!fs::is_directory(kDataDir))
-      GTEST_SKIP() << "no reference problems: " << kDataDir << " does not exist (shared/ must sit "
-                   << "beside the repository)";
+    SABLE_NEEDS(fs::is_directory(kDataDir),
+                "no reference problems: " << kDataDir << " does not exist (shared/ must sit "
+                                          << "beside the repository)");
     file_ = kDataDir / GetParam();
   }
   fs::path file_;
@@ -176,7 +177,7 @@ INSTANTIATE_TEST_SUITE_P(Siconos, Fc3dProblem,
 
 // solve_fc3d: the driver reports the contacts and a residual below the tolerance.
 TEST(Fc3dDriver, SolveReport) {
-  if (!fs::is_directory(kDataDir)) GTEST_SKIP() << kDataDir << " does not exist";
+  SABLE_NEEDS(fs::is_directory(kDataDir), kDataDir << " does not exist");
   NlgsSettings s;
   s.tolerance = 1e-6;
   s.local = LocalSolver::kExact;

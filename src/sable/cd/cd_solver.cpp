@@ -206,11 +206,11 @@ void CdSolver<D>::step() {
     if (w_.neighbors.needs_rebuild(p, w_.walls, 2.0 * h * max_speed())) reorder_.build_lists(w_);
   }
   {
-    auto scope = timers_.time(Phase::kContacts);
+    auto scope = timers_.time(Phase::kContactBuild);
     build_contacts();
   }
   {
-    auto scope = timers_.time(Phase::kSolve);
+    auto scope = timers_.time(Phase::kNlgsSolve);
     Problem problem(c_, p, w_.walls, dofs_, h);
     double q2 = 0.0;
     for (std::size_t a = 0; a < c_.size(); ++a) q2 += problem.velocity(a).squaredNorm();

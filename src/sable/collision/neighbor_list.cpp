@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "sable/core/grow.hpp"
+#include "sable/core/parallel.hpp"
 
 namespace sable {
 
@@ -16,7 +17,7 @@ double max_displacement2(const std::vector<typename Space<D>::Vec>& x,
   const auto n = static_cast<std::ptrdiff_t>(x.size());
   const Vec* const xp = x.data();
   const Vec* const rp = ref.data();
-#pragma omp parallel for schedule(static) reduction(max : max_d2) if (n >= 4096)
+#pragma omp parallel for schedule(static) reduction(max : max_d2) if (n >= kMinParallelScan)
   for (std::ptrdiff_t k = 0; k < n; ++k) max_d2 = std::max(max_d2, (xp[k] - rp[k]).squaredNorm());
   return max_d2;
 }
@@ -133,7 +134,7 @@ template <int D>
 void NeighborList<D>::build_pairs(const ParticleStore<D>& p, PairList<D>& out) {
   out.clear();
   const auto n = static_cast<std::ptrdiff_t>(p.size());
-  const bool parallel = n >= 4096;
+  const bool parallel = n >= kMinParallelScan;
   const int threads = parallel ? omp_get_max_threads() : 1;
   thread_i_.resize(static_cast<std::size_t>(threads));
   thread_j_.resize(static_cast<std::size_t>(threads));

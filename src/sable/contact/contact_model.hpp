@@ -6,7 +6,10 @@
 // has the grain's own radius and mass as the effective ones, and the wall's velocity in vrel.
 //
 // To add a law: write a struct with `static NormalCoeffs coeffs(...)` (see HertzNormal), add
-// its enum value and a row in kContactSubModels, and a case in dispatch_normal() below.
+// its enum value and a row in kContactSubModels, then its branch where a normal law is chosen:
+// the parser's names (scenario/parse.cpp), the build's name and critical time
+// (scenario/build.cpp), the servo's stiffness (loading/servo.cpp) and the pair pass's kernel
+// (dem/dem_solver.cpp, and its instantiations in dem/grain_loops.cpp).
 #pragma once
 
 #include <cmath>
@@ -153,6 +156,27 @@ template <int D, class Normal>
     force -= c.kt * shear + c.gt * vt;
   }
   return force;
+}
+
+// The rolling couple on grain i of a touching contact whose force on i is f (contact/rolling.hpp,
+// with the normal law's stiffness at this overlap); advances the rolling spring `theta`. A pair
+// without rolling friction has no couple and keeps no spring. w_rel = w_i - w_j (a wall does
+// not turn: the grain's own spin); inv_ic_i, inv_ic_j: the inverse inertias about the contact
+// point (0 for a wall). Grain-grain and grain-wall contacts share it, as they share
+// contact_force.
+template <int D, class Normal>
+[[gnu::always_inline]] inline typename Space<D>::Rot rolling_couple(
+    const ContactGeometry<D>& g, const PairParams& p, const ContactModel& model, double dt,
+    const typename Space<D>::Vec& f, const typename Space<D>::Rot& w_rel, double inv_ic_i,
+    double inv_ic_j, typename Space<D>::Rot& theta) {
+  if (p.rolling_friction == 0.0) {
+    theta = Space<D>::zero_rot();
+    return theta;
+  }
+  const RollingCoeffs c =
+      rolling_coeffs(p.rolling_friction, model.rolling_damping, g.r_eff,
+                     Normal::stiffness(p, model, g.delta, g.r_eff), f.dot(g.n), inv_ic_i, inv_ic_j);
+  return rolling_moment<D>(g.n, w_rel, c, dt, theta);
 }
 
 }  // namespace sable

@@ -9,7 +9,7 @@
 #include <type_traits>
 
 #include "sable/contact/contact_lanes.hpp"
-#include "sable/contact/liquid.hpp"
+#include "sable/world/liquid.hpp"
 #include "sable/core/error.hpp"
 #include "sable/core/grow.hpp"
 #include "sable/dem/grain_pass.hpp"
@@ -121,7 +121,7 @@ bool DemSolver<D>::forces(const Moved* moved, double h_kick) {
   const bool hertz = w_.model.normal == NormalModel::kHertz;
   bool unsound = false;
   {
-    auto scope = timers_.time(Phase::kForces);
+    auto scope = timers_.time(Phase::kPairPass);
     if (wet)
       hertz ? wet_pair_forces<HertzNormal>() : wet_pair_forces<LinearNormal>();
     else if (rolling)
@@ -132,7 +132,7 @@ bool DemSolver<D>::forces(const Moved* moved, double h_kick) {
                       : pair_forces<LinearNormal, false>(h_kick);
   }
   if (wet) settle_liquid();
-  auto scope = timers_.time(Phase::kFinish);
+  auto scope = timers_.time(Phase::kClosing);
   if (!wet) {
     total_wall_forces();
     return unsound;
@@ -204,15 +204,8 @@ struct DemSolver<D>::PairPass {
   [[gnu::always_inline]] Rot rolling_couple(std::size_t k, std::uint32_t a, std::uint32_t b,
                                             const ContactGeometry<D>& g, const PairParams& pp,
                                             const Vec& f) const {
-    Rot m = S::zero_rot();
-    if (pp.rolling_friction == 0.0) {
-      roll[k] = m;
-    } else {
-      const RollingCoeffs c = rolling_coeffs(pp.rolling_friction, model.rolling_damping, g.r_eff,
-                                             Normal::stiffness(pp, model, g.delta, g.r_eff),
-                                             f.dot(g.n), inv_ic[a], inv_ic[b]);
-      m = rolling_moment<D>(g.n, Rot(w[a] - w[b]), c, dt, roll[k]);
-    }
+    const Rot m = sable::rolling_couple<D, Normal>(g, pp, model, dt, f, Rot(w[a] - w[b]), inv_ic[a],
+                                                   inv_ic[b], roll[k]);
     couple[k] = m;
     return m;
   }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "sable/core/parallel.hpp"
 #include "sable/dem/grain_split.hpp"
 #include "sable/dem/near_list.hpp"
 #include "sable/world/reorder.hpp"
@@ -61,9 +62,6 @@ class DemSolver final : public Solver {
   }
 
  private:
-  // Below this many grains or contacts a loop runs on one thread: waking a thread team costs
-  // more than the work. The result is the same bits either way.
-  static constexpr std::ptrdiff_t kMinParallelItems = 2048;
   // The pair pass shares the last kPairTail of each block's work in chunks of kPairChunk
   // grains (a few us each) (see pair_forces): enough to absorb the few-% step-to-step
   // wander of a thread's speed (docs/BENCHMARKS.md, "The DEM step's design").

@@ -295,18 +295,9 @@ void DemSolver<D>::wall_contact(std::size_t k, double& max_ratio, std::size_t& t
   wl.force[k] = f;
   wall_moment_[k] = S::moment(g.n, f);
   wall_delta_[k] = g.delta;
-  if (rolling) {  // the wall does not turn: the relative spin is the grain's
-    typename S::Rot c = S::zero_rot();
-    if (pp.rolling_friction != 0.0) {
-      const RollingCoeffs rc = rolling_coeffs(
-          pp.rolling_friction, w_.model.rolling_damping, g.r_eff,
-          Normal::stiffness(pp, w_.model, g.delta, g.r_eff), f.dot(g.n), roll_inv_ic_[i], 0.0);
-      c = rolling_moment<D>(g.n, p.w[i], rc, w_.dt, wl.roll[k]);
-    } else {
-      wl.roll[k] = c;
-    }
-    wall_roll_[k] = c;
-  }
+  if (rolling)  // the wall does not turn: the relative spin is the grain's
+    wall_roll_[k] = rolling_couple<D, Normal>(g, pp, w_.model, w_.dt, f, p.w[i], roll_inv_ic_[i],
+                                              0.0, wl.roll[k]);
   max_ratio = std::max(max_ratio, g.delta / p.radius[i]);
   ++touching;
 }

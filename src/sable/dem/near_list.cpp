@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "sable/core/grow.hpp"
+#include "sable/core/parallel.hpp"
 
 namespace sable {
 
@@ -32,7 +33,7 @@ void NearList<D>::filter(const ParticleStore<D>& p, const NeighborList<D>& nl, d
   double max_v2 = 0.0;  // a max: thread-independent
   const Vec* const vp = p.v.data();
   const auto n = static_cast<std::ptrdiff_t>(p.size());
-#pragma omp parallel for schedule(static) reduction(max : max_v2) if (n >= 4096)
+#pragma omp parallel for schedule(static) reduction(max : max_v2) if (n >= kMinParallelScan)
   for (std::ptrdiff_t k = 0; k < n; ++k) max_v2 = std::max(max_v2, vp[k].squaredNorm());
   // Half the inner skin is covered in about kStepsPerRemake steps at the current top speed.
   skin = keep_all ? std::numeric_limits<double>::infinity()

@@ -53,6 +53,15 @@ struct Wall {
     }
     return radius - rho;
   }
+
+  // The coordinate axis a plane wall faces (its normal is +-e_axis), or -1 for a cylinder or
+  // a tilted plane: the walls that bound a box sample and that a servo can drive.
+  int facing_axis() const {
+    if (kind != WallKind::kPlane) return -1;
+    for (int d = 0; d < D; ++d)
+      if (std::abs(std::abs(normal[d]) - 1.0) < 1e-12) return d;
+    return -1;
+  }
 };
 
 }  // namespace sable

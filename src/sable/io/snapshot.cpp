@@ -175,7 +175,7 @@ void write_rolling(h5::File& f, const NeighborList<D>& nl) {
   write_rows(f, "/neighbors/wall_pairs/roll", nl.wall_pairs.roll);
 }
 
-// Capillary bridges and the grains' films, only for a wet contact law (contact/liquid.hpp).
+// Capillary bridges and the grains' films, only for a wet contact law (world/liquid.hpp).
 template <int D>
 void write_liquid(h5::File& f, const World<D>& w) {
   if (!w.neighbors.bridges) return;

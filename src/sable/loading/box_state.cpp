@@ -7,26 +7,13 @@
 
 namespace sable {
 
-namespace {
-
-// The axis a plane wall faces, or -1 for a cylinder or a tilted plane.
-template <int D>
-int facing_axis(const Wall<D>& wall) {
-  if (wall.kind != WallKind::kPlane) return -1;
-  for (int d = 0; d < D; ++d)
-    if (std::abs(std::abs(wall.normal[d]) - 1.0) < 1e-12) return d;
-  return -1;
-}
-
-}  // namespace
-
 template <int D>
 std::optional<BoxState<D>> measure_box(const World<D>& w) {
   BoxState<D> b;
   std::array<bool, D> has_lo{}, has_hi{};
   for (std::size_t k = 0; k < w.walls.size(); ++k) {
     const Wall<D>& wall = w.walls[k];
-    const int d = facing_axis(wall);
+    const int d = wall.facing_axis();
     if (d < 0) continue;
     const double x = wall.point[d];
     if (wall.normal[d] > 0.0 && (!has_lo[d] || x > b.lo[d])) {

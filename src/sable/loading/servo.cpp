@@ -11,21 +11,13 @@ namespace sable {
 
 namespace {
 
-// The axis a plane wall faces, or -1 when it is tilted.
-template <int D>
-int wall_axis(const Wall<D>& wall) {
-  for (int d = 0; d < D; ++d)
-    if (std::abs(std::abs(wall.normal[d]) - 1.0) < 1e-12) return d;
-  return -1;
-}
-
 // The sample's extent along `axis`: between the facing plane walls there, else the domain.
 template <int D>
 double extent(const World<D>& w, int axis) {
   double lo = w.neighbors.domain_lo[axis], hi = w.neighbors.domain_hi[axis];
   bool has_lo = false, has_hi = false;
   for (const auto& wall : w.walls) {
-    if (wall.kind != WallKind::kPlane || wall_axis(wall) != axis) continue;
+    if (wall.facing_axis() != axis) continue;
     if (wall.normal[axis] > 0.0) {
       lo = has_lo ? std::max(lo, wall.point[axis]) : wall.point[axis];
       has_lo = true;
@@ -42,7 +34,7 @@ double extent(const World<D>& w, int axis) {
 template <int D>
 double wall_area(const World<D>& w, std::size_t k) {
   const Wall<D>& wall = w.walls[k];
-  const int axis = wall.kind == WallKind::kPlane ? wall_axis(wall) : -1;
+  const int axis = wall.facing_axis();
   if (axis < 0)
     throw InputError(fmt::format(
         "wall '{}': stress control needs a plane wall facing a coordinate axis", clip(wall.name)));

@@ -102,7 +102,7 @@ struct ContactConfig {
   double surface_tension = 0.0728;         // N/m (water, 20 C)
   double contact_angle_deg = 0.0;          // degrees; 0 = perfectly wetting (the paper's)
   double capillary_c = 0.9;                // constant c of the decay length (eq. 6)
-  std::string ruptured_liquid = "grains";  // "grains" | "lost" (contact/liquid.hpp)
+  std::string ruptured_liquid = "grains";  // "grains" | "lost" (world/liquid.hpp)
   // Rolling sub-model: "none" | "epsd" (contact/rolling.hpp); eta_r, a fraction of critical.
   std::string rolling = "none";
   double rolling_damping = 0.3;
@@ -187,7 +187,7 @@ struct StageConfig {
   // servo_wall_mass (kg) overrides their automatic mass (loading/servo.hpp); 0: automatic.
   double servo_wall_mass = 0.0;
   std::optional<double> stress_tolerance;
-  // Wetting (contact/liquid.hpp), at the start of the stage: gravimetric water content (kg
+  // Wetting (world/liquid.hpp), at the start of the stage: gravimetric water content (kg
   // of liquid per kg of grains) distributed as bridges over the eligible pairs.
   std::optional<double> water_content;
   double liquid_density = 1000.0;  // kg/m^3

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <memory>
 
-#include "sable/contact/liquid.hpp"
+#include "sable/world/liquid.hpp"
 #include "sable/core/error.hpp"
 #include "sable/io/csv.hpp"
 #include "sable/io/snapshot.hpp"

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "sable/core/error.hpp"
+#include "sable/core/parallel.hpp"
 #include "sable/world/world.hpp"
 
 namespace sable {
@@ -39,7 +40,7 @@ void check_grain_states(const World<D>& w) {
   const auto& p = w.particles;
   const auto n = static_cast<std::ptrdiff_t>(p.size());
   int bad = 0;
-#pragma omp parallel for schedule(static) reduction(| : bad) if (n >= 4096)
+#pragma omp parallel for schedule(static) reduction(| : bad) if (n >= kMinParallelScan)
   for (std::ptrdiff_t k = 0; k < n; ++k)
     bad |= grain_state_ok(w, static_cast<std::size_t>(k)) ? 0 : 1;
   if (!bad) return;

@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "sable/dem/phase_timer.hpp"
+#include "sable/core/phase_timer.hpp"
 
 namespace sable {
 

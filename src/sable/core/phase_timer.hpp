@@ -7,12 +7,21 @@
 
 namespace sable {
 
-// DEM uses the first four phases (integrate: the first half kick and the drift; pair pass:
-// the contact forces, and in dry runs each grain's closing as well, its wall contacts, sum and
-// second half kick; closing: the wet runs' closing loop, and the walls' total forces),
-// contact dynamics integrate, neighbors, contacts and solve; a summary lists the phases that
-// took time.
-enum class Phase : int { kIntegrate, kNeighbors, kForces, kFinish, kContacts, kSolve, kCount };
+// Each enumerator is the name a summary prints (kPhaseNames), so that a timing points at its
+// code. DEM uses the first four phases (integrate: the first half kick and the drift; pair
+// pass: the contact forces, and in dry runs each grain's closing as well, its wall contacts,
+// sum and second half kick; closing: the wet runs' closing loop, and the walls' total
+// forces), contact dynamics integrate, neighbors, contact build and NLGS solve; a summary
+// lists the phases that took time. Used by every solver: it sits in core, below them.
+enum class Phase : int {
+  kIntegrate,
+  kNeighbors,
+  kPairPass,
+  kClosing,
+  kContactBuild,
+  kNlgsSolve,
+  kCount
+};
 inline constexpr std::array<std::string_view, static_cast<int>(Phase::kCount)> kPhaseNames = {
     "integrate", "neighbors", "pair pass", "closing", "contact build", "NLGS solve"};
 

@@ -1,4 +1,4 @@
-#include "sable/contact/liquid.hpp"
+#include "sable/world/liquid.hpp"
 
 #include <fmt/format.h>
 #include <algorithm>
