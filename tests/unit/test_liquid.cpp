@@ -8,10 +8,10 @@
 #include <sstream>
 #include <vector>
 
-#include "sable/world/liquid.hpp"
 #include "sable/core/error.hpp"
 #include "sable/io/snapshot.hpp"
 #include "sable/scenario/build.hpp"
+#include "sable/world/liquid.hpp"
 
 using namespace sable;
 

@@ -10,10 +10,10 @@
 #include <sstream>
 
 #include "../unit/run_helpers.hpp"
-#include "sable/world/liquid.hpp"
 #include "sable/dem/dem_solver.hpp"
 #include "sable/io/snapshot.hpp"
 #include "sable/scenario/build.hpp"
+#include "sable/world/liquid.hpp"
 #include "sable/world/state_hash.hpp"
 
 namespace fs = std::filesystem;

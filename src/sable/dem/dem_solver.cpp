@@ -9,11 +9,11 @@
 #include <type_traits>
 
 #include "sable/contact/contact_lanes.hpp"
-#include "sable/world/liquid.hpp"
 #include "sable/core/error.hpp"
 #include "sable/core/grow.hpp"
 #include "sable/dem/grain_pass.hpp"
 #include "sable/world/guards.hpp"
+#include "sable/world/liquid.hpp"
 
 namespace sable {
 

@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <memory>
 
-#include "sable/world/liquid.hpp"
 #include "sable/core/error.hpp"
 #include "sable/io/csv.hpp"
 #include "sable/io/snapshot.hpp"
@@ -19,6 +18,7 @@
 #include "sable/scenario/output_folder.hpp"
 #include "sable/scenario/progress.hpp"
 #include "sable/scenario/resume_changes.hpp"
+#include "sable/world/liquid.hpp"
 
 namespace sable {
 namespace {
