@@ -196,22 +196,28 @@ TEST_F(SnapshotBounds, CompressedDatasetsStillLoad) {
   EXPECT_EQ(load(p), "");  // the state hash is checked on loading
 }
 
+// Replaces the snapshot's /scenario by `text` stored as a fixed-length ASCII string (HDF5's
+// default string type; Sable writes UTF-8).
+void store_ascii_scenario(const std::string& file, const std::string& text) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  H5Ldelete(f, "/scenario", H5P_DEFAULT);
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, text.size() + 1);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t d = H5Dcreate2(f, "/scenario", type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.c_str());
+  H5Dclose(d);
+  H5Sclose(space);
+  H5Tclose(type);
+  H5Fclose(f);
+}
+
 // Guards: a string stored as ASCII, as other tools write them (Sable writes UTF-8), is read:
 // HDF5 converts neither way between the two, and the reader asked for UTF-8 ("no appropriate
 // function for conversion path").
 TEST_F(SnapshotBounds, AsciiStringsAreRead) {
   const std::string p = copy("ascii.h5");
-  const hid_t f = H5Fopen(p.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  H5Ldelete(f, "/scenario", H5P_DEFAULT);
-  const hid_t type = H5Tcopy(H5T_C_S1);  // ASCII, the default
-  H5Tset_size(type, text_.size() + 1);
-  const hid_t space = H5Screate(H5S_SCALAR);
-  const hid_t d = H5Dcreate2(f, "/scenario", type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, text_.c_str());
-  H5Dclose(d);
-  H5Sclose(space);
-  H5Tclose(type);
-  H5Fclose(f);
+  store_ascii_scenario(p, text_);
   std::string stored;
   EXPECT_EQ(load(p, &stored), "");
   EXPECT_EQ(stored, text_);
@@ -338,18 +344,7 @@ TEST_F(SnapshotBounds, InfoVerifiesTheStateHash) {
 // and materials are what the state is checked against): FAILED, saying so.
 TEST_F(SnapshotBounds, InfoFailsWhenTheStoredScenarioDoesNotParse) {
   const std::string p = copy("scenario.h5");
-  const hid_t f = H5Fopen(p.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  H5Ldelete(f, "/scenario", H5P_DEFAULT);
-  const std::string text = "[simulation]\ndimension = 2\n";
-  const hid_t type = H5Tcopy(H5T_C_S1);
-  H5Tset_size(type, text.size() + 1);
-  const hid_t space = H5Screate(H5S_SCALAR);
-  const hid_t d = H5Dcreate2(f, "/scenario", type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.c_str());
-  H5Dclose(d);
-  H5Sclose(space);
-  H5Tclose(type);
-  H5Fclose(f);
+  store_ascii_scenario(p, "[simulation]\ndimension = 2\n");
   const SnapshotIntegrity v = verify_snapshot(p);
   EXPECT_FALSE(v.verified);
   EXPECT_TRUE(has(v.problem, "the scenario stored in the snapshot does not parse: " + p +
