@@ -10,6 +10,9 @@ echo "== clang-format"
 files=$(git ls-files '*.cpp' '*.hpp' 2>/dev/null || find src apps tests bench -name '*.[ch]pp')
 clang-format --dry-run --Werror $files
 
+echo "== layers: every include points down (docs/ARCHITECTURE.md, Layers)"
+/usr/bin/python3 scripts/check_layers.py
+
 echo "== release build + all tests"
 bash scripts/build.sh release
 ctest --preset release -j "$(nproc)"

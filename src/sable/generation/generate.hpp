@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "sable/scenario/config.hpp"
+#include "sable/generation/grains_config.hpp"
 
 namespace sable {
 

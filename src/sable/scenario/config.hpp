@@ -14,20 +14,10 @@
 #include <vector>
 
 #include "sable/core/material.hpp"
+#include "sable/core/source_loc.hpp"
+#include "sable/generation/grains_config.hpp"
 
 namespace sable {
-
-using Vec3a = std::array<double, 3>;
-
-// Where a value came from, for messages raised after parsing ("pour.toml:12:3: ...").
-struct SourceLoc {
-  std::string file;
-  int line = 0;
-  int column = 0;
-  std::string str() const {
-    return line > 0 ? file + ":" + std::to_string(line) + ":" + std::to_string(column) : file;
-  }
-};
 
 // Bounds on a DEM time step, in critical times (build.hpp: check_time_step): above the first
 // `check` and `run` warn, above the second they refuse. Measured on head-on
@@ -106,42 +96,6 @@ struct ContactConfig {
   // Rolling sub-model: "none" | "epsd" (contact/rolling.hpp); eta_r, a fraction of critical.
   std::string rolling = "none";
   double rolling_damping = 0.3;
-  SourceLoc loc;
-};
-
-struct RadiusConfig {
-  enum class Kind { kMono, kUniform, kList } kind = Kind::kMono;
-  double value = 0.0;          // mono radius, or the mean of the uniform distribution
-  double spread = 0.0;         // uniform: relative half-width (0.1 = +-10 %)
-  std::vector<double> values;  // list: radii drawn in turn (cycled)
-};
-
-struct RegionConfig {
-  enum class Kind { kBox, kCylinder } kind = Kind::kBox;
-  Vec3a lo{0, 0, 0}, hi{0, 0, 0};  // box
-  Vec3a center{0, 0, 0};           // cylinder: axis along z through center (x, y)
-  double radius = 0.0;
-  double zlo = 0.0, zhi = 0.0;
-};
-
-struct GrainsConfig {
-  std::string generator = "lattice";  // "lattice" | "random" | "list" | "file"
-  std::string material;
-  RadiusConfig radius;
-  RegionConfig region;
-  std::size_t count = 0;
-  std::optional<double> spacing;     // lattice spacing; default 2 * max radius
-  double jitter = 0.0;               // lattice: uniform +-jitter on every coordinate (m)
-  std::string jitter_rng = "sable";  // "sable" | "numpy-pcg64" (bit-compatible with numpy)
-  // "square" (cubic in 3D) | "hexagonal": rows (layers) offset by half a spacing, rows
-  // sqrt(3)/2 spacing apart in 2D (in 3D: hexagonal layers stacked at the square pitch)
-  std::string arrangement = "square";
-  std::optional<std::uint64_t> seed;  // default: simulation seed
-  std::vector<Vec3a> positions;       // generator = "list"
-  std::string file;                   // generator = "file": LAMMPS/LIGGGHTS data file
-  Vec3a velocity{0, 0, 0};
-  bool fixed = false;
-  std::size_t max_attempts = 1000;  // random insertion: tries per grain
   SourceLoc loc;
 };
 
