@@ -183,10 +183,9 @@ Sample<D> load_sample(const std::string& path) {
   // grains themselves come from the snapshot, so generators are not re-run.
   ScenarioConfig cfg;
   try {
-    cfg = parse_scenario(info.scenario_text, path + " (embedded scenario)");
+    cfg = parse_stored_scenario(info.scenario_text, path);
   } catch (const InputError& e) {
-    throw InputError(
-        fmt::format("{}: the scenario stored in the snapshot does not parse: {}", path, e.what()));
+    throw InputError(fmt::format("{}: {}", path, e.what()));
   }
   World<D> w;
   build_model(cfg, w);

@@ -191,6 +191,10 @@ inline constexpr std::uint64_t kMaxInsertionAttempts = 1'000'000;
 
 // Parse and validate. Throws InputError naming file:line:column, the key and what was expected.
 ScenarioConfig parse_scenario(const std::string& text, const std::string& path);
+
+// The scenario a snapshot `path` stores (`text`), parsed; throws InputError "the scenario
+// stored in the snapshot does not parse: ..." (the caller names the file).
+ScenarioConfig parse_stored_scenario(const std::string& text, const std::string& path);
 ScenarioConfig load_scenario(const std::string& path);
 
 }  // namespace sable

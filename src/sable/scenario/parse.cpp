@@ -779,4 +779,13 @@ ScenarioConfig load_scenario(const std::string& path) {
   return parse_scenario(text, path);
 }
 
+ScenarioConfig parse_stored_scenario(const std::string& text, const std::string& path) {
+  try {
+    return parse_scenario(text, path + " (embedded scenario)");
+  } catch (const InputError& e) {
+    throw InputError(
+        fmt::format("the scenario stored in the snapshot does not parse: {}", e.what()));
+  }
+}
+
 }  // namespace sable

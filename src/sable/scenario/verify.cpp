@@ -24,13 +24,7 @@ SnapshotIntegrity verify_snapshot(const std::string& path) {
   const SnapshotInfo info = read_snapshot_info(path);
   SnapshotIntegrity out;
   try {
-    ScenarioConfig cfg;
-    try {
-      cfg = parse_scenario(info.scenario_text, path + " (embedded scenario)");
-    } catch (const InputError& e) {
-      throw InputError(
-          fmt::format("the scenario stored in the snapshot does not parse: {}", e.what()));
-    }
+    const ScenarioConfig cfg = parse_stored_scenario(info.scenario_text, path);
     if (cfg.sim.dimension != info.dimension)
       throw InputError(fmt::format("the snapshot is {}D, but the scenario stored in it is {}D",
                                    info.dimension, cfg.sim.dimension));
