@@ -17,7 +17,7 @@
 
 #include "sable/analysis/analyze.hpp"
 #include "sable/cd/fc3d.hpp"
-#include "sable/contact/contact_model.hpp"
+#include "sable/contact/registry.hpp"
 #include "sable/core/error.hpp"
 #include "sable/io/snapshot.hpp"
 #include "sable/scenario/config.hpp"

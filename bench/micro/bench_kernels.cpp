@@ -10,7 +10,7 @@
 
 #include "sable/cd/cd_solver.hpp"
 #include "sable/contact/contact_lanes.hpp"
-#include "sable/contact/contact_model.hpp"
+#include "sable/contact/registry.hpp"
 #include "sable/dem/dem_solver.hpp"
 
 namespace {

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "sable/contact/contact_model.hpp"
+#include "sable/contact/registry.hpp"
 #include "sable/scenario/config.hpp"
 
 namespace {

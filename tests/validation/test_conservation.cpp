@@ -89,7 +89,7 @@ EnergyRun bouncing_grains(double steps_per_contact, int per_side, double radius,
                           double early_end) {
   using Vec = typename Space<D>::Vec;
   World<D> w;
-  w.model.normal = NormalModel::kHertz;
+  w.model.normal = NormalLaws::id<HertzNormal>();
   w.model.tangential = TangentialModel::kNone;
   const MaterialIndex mi = w.materials.add(make_material("grain", kDensity, 1e8, 0.3, 1.0, 0.0));
   const MaterialIndex wi =
@@ -219,7 +219,7 @@ template <int D>
 void check_momentum(int n_grains) {
   using Vec = typename Space<D>::Vec;
   World<D> w;
-  w.model.normal = NormalModel::kHertz;
+  w.model.normal = NormalLaws::id<HertzNormal>();
   w.model.tangential = TangentialModel::kHistory;
   const MaterialIndex mi = w.materials.add(make_material("grain", kDensity, 1e8, 0.3, 0.5, 0.5));
   w.materials.finalize();

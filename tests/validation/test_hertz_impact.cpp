@@ -43,7 +43,7 @@ TEST(HertzImpact, ChungOoiTest1TwoGlassSpheres) {
   const double fmax_hertz = hertz_force(r_eff, y_star, dmax_hertz);
 
   World<3> w;
-  w.model.normal = NormalModel::kHertz;
+  w.model.normal = NormalLaws::id<HertzNormal>();
   w.model.tangential = TangentialModel::kNone;
   const double dt = tc_hertz / 1000.0;
   setup_pair_impact(w, glass, r, speed, 10.0 * v * dt, dt);
@@ -78,7 +78,7 @@ TEST(HertzImpact, ChungOoiTest2AluminiumSphereOnRigidPlane) {
   const double fmax_hertz = hertz_force(r, y_star, dmax_hertz);
 
   World<3> w;
-  w.model.normal = NormalModel::kHertz;
+  w.model.normal = NormalLaws::id<HertzNormal>();
   w.model.tangential = TangentialModel::kNone;
   const double dt = tc_hertz / 1000.0;
   setup_wall_impact<3>(w, al, rigid, r, Eigen::Vector3d(0.0, 0.0, -speed), 10.0 * speed * dt, dt);

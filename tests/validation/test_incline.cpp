@@ -58,7 +58,7 @@ Motion roll_down(double theta_deg) {
   using Vec = typename Space<D>::Vec;
   const double theta = theta_deg * kPi / 180.0;
   World<D> w;
-  w.model.normal = NormalModel::kHertz;
+  w.model.normal = NormalLaws::id<HertzNormal>();
   w.model.tangential = TangentialModel::kHistory;
   const MaterialIndex mi =
       w.materials.add(make_material("grain", kDensity, kYoung, kPoisson, 0.5, kMu));

@@ -62,7 +62,7 @@ Rebound oblique_impact(double theta_deg) {
   const double dt = hertz_contact_time(m, kRadius, y_star, v_n) / 1000.0;
 
   World<3> w;
-  w.model.normal = NormalModel::kHertz;
+  w.model.normal = NormalLaws::id<HertzNormal>();
   w.model.tangential = TangentialModel::kHistory;
   setup_wall_impact<3>(w, alumina, plane, kRadius, Eigen::Vector3d(v_t, 0.0, -v_n), 5.0 * v_n * dt,
                        dt);

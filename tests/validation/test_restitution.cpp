@@ -156,7 +156,8 @@ TEST(Restitution, DampedHertzEquationGivesNominalRestitution) {
 
 TEST(Restitution, LinearAttractiveDampingIsExact) {
   for (double e : kRestitutions) {
-    const Impact r = impact(NormalModel::kLinear, true, e, 1.0, linear_contact_time(e) / 1000.0);
+    const Impact r =
+        impact(NormalLaws::id<LinearNormal>(), true, e, 1.0, linear_contact_time(e) / 1000.0);
     RecordProperty("linear_e" + num(e), num(r.e));
     EXPECT_NEAR(r.e, e, kTol * e) << "nominal e = " << e;
   }
@@ -169,7 +170,7 @@ TEST(Restitution, HertzAttractiveDampingVelocityIndependentAndNominal) {
   for (double e : kRestitutions) {
     double e_fast = 0.0;
     for (double v : {10.0, 1.0, 0.1}) {
-      const Impact r = impact(NormalModel::kHertz, true, e, v, dt);
+      const Impact r = impact(NormalLaws::id<HertzNormal>(), true, e, v, dt);
       if (v == 10.0) e_fast = r.e;
       RecordProperty("hertz_e" + num(e) + "_v" + num(v), num(r.e));
       // (a) velocity independence: within 0.5 % of the 10 m/s value.
@@ -186,20 +187,22 @@ TEST(Restitution, HertzAttractiveDampingVelocityIndependentAndNominal) {
 TEST(Restitution, ClippingMakesReboundsLivelierAndNeverPulls) {
   for (double e : kRestitutions) {
     const double e_clip = clipped_restitution(e);
-    const Impact lin = impact(NormalModel::kLinear, false, e, 1.0, linear_contact_time(e) / 1000.0);
+    const Impact lin =
+        impact(NormalLaws::id<LinearNormal>(), false, e, 1.0, linear_contact_time(e) / 1000.0);
     RecordProperty("linear_clipped_e" + num(e), num(lin.e));
     EXPECT_GT(lin.e, e) << "nominal e = " << e;
     EXPECT_NEAR(lin.e, e_clip, kTol * e_clip) << "nominal e = " << e;
     EXPECT_GE(lin.min_force, 0.0) << "clipped contact pulled, nominal e = " << e;
     // Same for Hertz: the clipped Hertz rebound equals the clipped linear one (header).
-    const Impact hz = impact(NormalModel::kHertz, false, e, 1.0, hertz_tc(1.0) / 1000.0);
+    const Impact hz = impact(NormalLaws::id<HertzNormal>(), false, e, 1.0, hertz_tc(1.0) / 1000.0);
     RecordProperty("hertz_clipped_e" + num(e), num(hz.e));
     EXPECT_GT(hz.e, e) << "nominal e = " << e;
     EXPECT_NEAR(hz.e, e_clip, kTol * e_clip) << "nominal e = " << e;
     EXPECT_GE(hz.min_force, 0.0) << "clipped contact pulled, nominal e = " << e;
     // Contrast: the unclipped dashpot does pull at the end of the contact, so the check above
     // is not vacuous.
-    const Impact attr = impact(NormalModel::kLinear, true, e, 1.0, linear_contact_time(e) / 1000.0);
+    const Impact attr =
+        impact(NormalLaws::id<LinearNormal>(), true, e, 1.0, linear_contact_time(e) / 1000.0);
     EXPECT_LT(attr.min_force, 0.0) << "nominal e = " << e;
   }
 }

@@ -92,7 +92,7 @@ World<D> make_world(const Setup& s) {
   using Vec = typename Space<D>::Vec;
   const double alpha = std::atan(s.tan_alpha);
   World<D> w;
-  w.model.normal = NormalModel::kHertz;
+  w.model.normal = NormalLaws::id<HertzNormal>();
   w.model.tangential = TangentialModel::kHistory;
   w.model.rolling = s.rolling;
   w.model.rolling_damping = kEtaR;

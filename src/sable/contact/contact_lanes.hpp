@@ -16,7 +16,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "sable/contact/contact_model.hpp"
+#include "sable/contact/registry.hpp"
 
 namespace sable {
 

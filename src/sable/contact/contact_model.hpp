@@ -1,32 +1,29 @@
-// Contact laws, composed of sub-models (normal+damping, tangential) picked from one table.
+// The contact model: the normal law (a row of the law table, contact/registry.hpp) composed
+// with the tangential, rolling and cohesion sub-models, and the one force kernel they share.
 //
 // A law is stateless: given the contact geometry, the pair's material parameters and the
 // contact's history (the tangential spring), it returns the force on grain i and updates the
 // history. The same kernel serves grain-grain and grain-wall contacts: a wall contact simply
 // has the grain's own radius and mass as the effective ones, and the wall's velocity in vrel.
-//
-// To add a law: write a struct with `static NormalCoeffs coeffs(...)` (see HertzNormal), add
-// its enum value and a row in kContactSubModels, then its branch where a normal law is chosen:
-// the parser's names (scenario/parse.cpp), the build's name and critical time
-// (scenario/build.cpp), the servo's stiffness (loading/servo.cpp) and the pair pass's kernel
-// (dem/dem_solver.cpp, and its instantiations in dem/grain_loops.cpp).
+// Adding a normal law is one file (a struct like HertzNormal, contact/hertz_law.hpp) and one
+// row of NormalLaws (contact/registry.hpp); docs/ARCHITECTURE.md says what the struct holds.
 #pragma once
 
 #include <cmath>
 #include <string_view>
 
 #include "sable/contact/capillary.hpp"
+#include "sable/contact/law_table.hpp"
 #include "sable/contact/rolling.hpp"
 #include "sable/core/material.hpp"
 #include "sable/core/space.hpp"
 
 namespace sable {
 
-enum class NormalModel : std::uint8_t { kHertz, kLinear };
 enum class TangentialModel : std::uint8_t { kHistory, kNone };
 
 struct ContactModel {
-  NormalModel normal = NormalModel::kHertz;
+  NormalModel normal;  // a row of the law table (contact/registry.hpp: NormalLaws)
   TangentialModel tangential = TangentialModel::kHistory;
   // When false the total normal force is clipped at zero: a dry contact never pulls. LIGGGHTS
   // lets the dashpot pull at the end of a contact; clipping makes rebounds slightly livelier
@@ -50,61 +47,10 @@ struct ContactModel {
   double rolling_damping = 0.3;
 };
 
-// The registry: every sub-model by category and name, the single source for scenario names,
-// `sable info --models` and the docs.
-struct SubModelEntry {
-  std::string_view category;
-  std::string_view name;
-  int code;
-  std::string_view summary;
-};
-inline constexpr SubModelEntry kContactSubModels[] = {
-    {"normal", "hertz", static_cast<int>(NormalModel::kHertz),
-     "Hertz elastic force with Tsuji-type damping from restitution; LIGGGHTS 3.8 coefficients"},
-    {"normal", "linear", static_cast<int>(NormalModel::kLinear),
-     "linear spring-dashpot, kn and kt given, damping from restitution (exact for e)"},
-    {"tangential", "history", static_cast<int>(TangentialModel::kHistory),
-     "Mindlin spring on the accumulated tangential displacement, Coulomb-capped"},
-    {"tangential", "none", static_cast<int>(TangentialModel::kNone), "frictionless contact"},
-    {"rolling", "none", static_cast<int>(RollingModel::kNone), "grains roll freely"},
-    {"rolling", "epsd", static_cast<int>(RollingModel::kEpsd),
-     "elastic-plastic spring-dashpot couple, capped at mu_r R* F_n (Iwashita & Oda 1998; Ai et "
-     "al. 2011 model C); CD: its rigid limit"},
-    {"cohesion", "none", static_cast<int>(CohesionModel::kNone), "dry grains"},
-    {"cohesion", "capillary", static_cast<int>(CohesionModel::kCapillary),
-     "liquid bridges, Richefeu et al. 2009 eq. 1-8: -kappa R in contact, exponential decay to "
-     "the rupture distance; formed at contact (hysteresis); DEM, 3D"},
-};
-
 // Stiffness and damping of one contact at its current overlap. Damping coefficients are
 // positive: they multiply minus the relative velocity.
 struct NormalCoeffs {
   double kn, gn, kt, gt;
-};
-
-struct HertzNormal {
-  static NormalCoeffs coeffs(const PairParams& p, const ContactModel&, double delta, double r_eff,
-                             double m_eff) {
-    const double sqrt_rd = std::sqrt(r_eff * delta);
-    constexpr double c = 1.8257418583505538;  // 2 sqrt(5/6)
-    // gamma_n = -c beta sqrt(S_n m*) with S_n = 2 Y* sqrt(R* delta); gamma_t is the same with
-    // S_t = 8 G* sqrt(R* delta), i.e. gamma_n sqrt(S_t / S_n): one square root for both.
-    const double gn = -c * p.beta * std::sqrt(2.0 * p.y_star * sqrt_rd * m_eff);
-    return {4.0 / 3.0 * p.y_star * sqrt_rd, gn, 8.0 * p.g_star * sqrt_rd, gn * p.st_over_sn_sqrt};
-  }
-  // coeffs().kn alone (the rolling sub-model's k_n), the same bits.
-  static double stiffness(const PairParams& p, const ContactModel&, double delta, double r_eff) {
-    return 4.0 / 3.0 * p.y_star * std::sqrt(r_eff * delta);
-  }
-};
-
-struct LinearNormal {
-  static NormalCoeffs coeffs(const PairParams& p, const ContactModel& m, double, double,
-                             double m_eff) {
-    return {m.kn, -2.0 * p.beta * std::sqrt(m.kn * m_eff), m.kt,
-            -2.0 * p.beta * std::sqrt(m.kt * m_eff)};
-  }
-  static double stiffness(const PairParams&, const ContactModel& m, double, double) { return m.kn; }
 };
 
 template <int D>

@@ -118,7 +118,7 @@ bool DemSolver<D>::forces(const Moved* moved, double h_kick) {
     }
     diag_.near_remakes = near_.remakes;
   }
-  const bool hertz = w_.model.normal == NormalModel::kHertz;
+  const bool hertz = w_.model.normal == NormalLaws::id<HertzNormal>();
   bool unsound = false;
   {
     auto scope = timers_.time(Phase::kPairPass);

@@ -17,7 +17,7 @@
 #include <atomic>
 #include <cmath>
 
-#include "sable/contact/contact_model.hpp"
+#include "sable/contact/registry.hpp"
 #include "sable/dem/dem_solver.hpp"
 #include "sable/dem/grain_pass.hpp"
 #include "sable/world/guards.hpp"

@@ -50,30 +50,6 @@ double wall_normal_stress(const World<D>& w, std::size_t k) {
 }
 
 template <int D>
-WallResponse wall_response(const World<D>& w, std::size_t k) {
-  const auto& p = w.particles;
-  const auto& wl = w.neighbors.wall_pairs;
-  const Wall<D>& wall = w.walls[k];
-  WallResponse r;
-  for (std::size_t c = 0; c < wl.size(); ++c) {
-    if (wl.wall[c] != k) continue;
-    const std::uint32_t i = wl.i[c];
-    typename Space<D>::Vec n;
-    const double delta = p.radius[i] - wall.distance(p.x[i], n);
-    if (delta <= 0.0) continue;
-    const PairParams& pp = w.materials.pair(p.material[i], wall.material);
-    // Tangent stiffness dF/d(delta): Hertz F = 4/3 Y* sqrt(R) delta^1.5 gives 2 Y* sqrt(R delta)
-    // = 1.5 times the secant kn; the linear law's is kn. Damping: the dashpot coefficient.
-    const NormalCoeffs c_ = w.model.normal == NormalModel::kHertz
-                                ? HertzNormal::coeffs(pp, w.model, delta, p.radius[i], p.mass[i])
-                                : LinearNormal::coeffs(pp, w.model, delta, p.radius[i], p.mass[i]);
-    r.stiffness += w.model.normal == NormalModel::kHertz ? 1.5 * c_.kn : c_.kn;
-    r.damping += std::abs(c_.gn);
-  }
-  return r;
-}
-
-template <int D>
 void servo_walls(World<D>& w, const std::vector<ServoTarget>& targets, const ServoSettings& s) {
   double gain = s.gain;
   if (gain <= 0.0) {
@@ -145,7 +121,6 @@ double servo_error(const World<D>& w, const std::vector<ServoTarget>& targets,
 #define SABLE_SERVO(D)                                                                         \
   template double wall_area(const World<D>&, std::size_t);                                     \
   template double wall_normal_stress(const World<D>&, std::size_t);                            \
-  template WallResponse wall_response(const World<D>&, std::size_t);                           \
   template void servo_walls(World<D>&, const std::vector<ServoTarget>&, const ServoSettings&); \
   template std::vector<WallBody> wall_bodies(const World<D>&, const std::vector<ServoTarget>&, \
                                              const ServoSettings&);                            \

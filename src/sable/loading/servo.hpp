@@ -47,6 +47,7 @@
 // each step, so a resumed run sees the same masses.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -83,8 +84,28 @@ double wall_normal_stress(const World<D>& w, std::size_t wall);
 struct WallResponse {
   double stiffness = 0.0, damping = 0.0;
 };
-template <int D>
-WallResponse wall_response(const World<D>& w, std::size_t wall);
+// The law's terms come from its row of the table (contact/law_table.hpp): tangent_stiffness()
+// and the dashpot of coeffs().
+template <class Laws = NormalLaws, int D>
+WallResponse wall_response(const World<D>& w, std::size_t wall) {
+  return Laws::visit(w.model.normal, [&]<class Law>() {
+    const auto& p = w.particles;
+    const auto& wl = w.neighbors.wall_pairs;
+    const Wall<D>& plane = w.walls[wall];
+    WallResponse r;
+    for (std::size_t c = 0; c < wl.size(); ++c) {
+      if (wl.wall[c] != wall) continue;
+      const std::uint32_t i = wl.i[c];
+      typename Space<D>::Vec n;
+      const double delta = p.radius[i] - plane.distance(p.x[i], n);
+      if (delta <= 0.0) continue;
+      const PairParams& pp = w.materials.pair(p.material[i], plane.material);
+      r.stiffness += Law::tangent_stiffness(pp, w.model, delta, p.radius[i]);
+      r.damping += std::abs(Law::coeffs(pp, w.model, delta, p.radius[i], p.mass[i]).gn);
+    }
+    return r;
+  });
+}
 
 // Set the velocity of every targeted wall from its measured stress. Throws InputError when
 // every target is 0 and neither gain nor zero_target_scale is set (the walls could not move).

@@ -11,6 +11,7 @@
 #include "sable/dem/dem_solver.hpp"
 #include "sable/generation/generate.hpp"
 #include "sable/scenario/initial_state.hpp"
+#include "sable/world/critical_time.hpp"
 
 namespace sable {
 namespace {
@@ -53,6 +54,30 @@ void add_walls(const WallConfig& wc, World<D>& w) {
   }
 }
 
+// The registry's rows for the names the parser accepted. A ContactConfig built by hand may
+// carry any name: an unknown one is an error here, never a silent default.
+[[noreturn]] void unknown_sub_model(const ContactConfig& c, std::string_view category,
+                                    const std::string& name) {
+  std::string names;
+  for (std::string_view n : sub_model_names(category))
+    names += (names.empty() ? "\"" : ", \"") + std::string(n) + "\"";
+  throw InputError(fmt::format("{}: contact.{} = \"{}\" is not a registered {} model (one of {})",
+                               c.loc.str(), category, clip(name), category, names));
+}
+
+NormalModel normal_law_named(const ContactConfig& c) {
+  const auto row = NormalLaws::find(c.normal);
+  if (!row) unknown_sub_model(c, "normal", c.normal);
+  return *row;
+}
+
+template <class Enum>
+Enum sub_model(const ContactConfig& c, std::string_view category, const std::string& name) {
+  const auto code = sub_model_code(category, name);
+  if (!code) unknown_sub_model(c, category, name);
+  return static_cast<Enum>(*code);
+}
+
 }  // namespace
 
 template <int D>
@@ -70,20 +95,20 @@ void build_model(const ScenarioConfig& cfg, World<D>& w) {
   }
   w.materials.finalize();
   const auto& c = cfg.contact;
-  w.model.normal = c.normal == "linear" ? NormalModel::kLinear : NormalModel::kHertz;
-  w.model.tangential = c.tangential == "none" ? TangentialModel::kNone : TangentialModel::kHistory;
+  w.model.normal = normal_law_named(c);
+  w.model.tangential = sub_model<TangentialModel>(c, "tangential", c.tangential);
   w.model.attractive_damping = c.attractive_damping;
   w.model.keep_spring_length = c.keep_spring_length;
   w.model.kn = c.kn;
   w.model.kt = c.kt;
-  w.model.cohesion = c.cohesion == "capillary" ? CohesionModel::kCapillary : CohesionModel::kNone;
+  w.model.cohesion = sub_model<CohesionModel>(c, "cohesion", c.cohesion);
   w.model.capillary.surface_tension = c.surface_tension;
   w.model.capillary.contact_angle = c.contact_angle_deg * std::numbers::pi / 180.0;
   w.model.capillary.c = c.capillary_c;
   w.model.capillary.ruptured =
       c.ruptured_liquid == "lost" ? RupturedLiquid::kLost : RupturedLiquid::kGrains;
   w.neighbors.bridges = w.model.cohesion == CohesionModel::kCapillary;
-  w.model.rolling = c.rolling == "epsd" ? RollingModel::kEpsd : RollingModel::kNone;
+  w.model.rolling = sub_model<RollingModel>(c, "rolling", c.rolling);
   w.model.rolling_damping = c.rolling_damping;
   w.neighbors.rolling = w.model.rolling != RollingModel::kNone;
   for (const auto& wc : cfg.walls) add_walls(wc, w);
@@ -155,26 +180,6 @@ double scenario_skin(const ScenarioConfig& cfg, const World<D>& w) {
 }
 
 template <int D>
-double critical_time(const World<D>& w) {
-  const auto& p = w.particles;
-  double t_crit = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < p.size(); ++k) {
-    const Material& m = w.materials[p.material[k]];
-    if (w.model.normal == NormalModel::kHertz) {
-      // Rayleigh time: the time a shear wave takes to cross the grain (LIGGGHTS' criterion).
-      const double g = m.young / (2.0 * (1.0 + m.poisson));
-      const double tr =
-          std::numbers::pi * p.radius[k] * std::sqrt(m.density / g) / (0.1631 * m.poisson + 0.8766);
-      t_crit = std::min(t_crit, tr);
-    } else {
-      // 1/omega of the stiffer of the two springs acting on the lightest grain pair.
-      t_crit = std::min(t_crit, std::sqrt(0.5 * p.mass[k] / std::max(w.model.kn, w.model.kt)));
-    }
-  }
-  return t_crit;
-}
-
-template <int D>
 double automatic_time_step(const ScenarioConfig& cfg, const World<D>& w) {
   const double t_crit = critical_time(w);
   if (w.particles.size() == 0)
@@ -193,7 +198,7 @@ template <int D>
 std::optional<std::string> check_time_step(const ScenarioConfig& cfg, const World<D>& w) {
   if (cfg.sim.solver == "cd" || w.particles.size() == 0) return std::nullopt;  // no stiffness
   const double ratio = w.dt / critical_time(w);
-  const char* crit = w.model.normal == NormalModel::kHertz ? "the Rayleigh time" : "sqrt(m / 2k)";
+  const std::string_view crit = critical_time_name(w);
   if (ratio > kTimeStepError)
     throw InputError(fmt::format(
         "{}: simulation.dt = {:.4g} s is {:.3g} times {} of the smallest grain ({:.4g} s); above "

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <utility>
 
+#include "sable/contact/registry.hpp"
 #include "sable/core/error.hpp"
 #include "sable/scenario/config.hpp"
 #include "sable/scenario/toml_reader.hpp"
@@ -191,7 +192,7 @@ std::vector<PairOverrideConfig> parse_pairs(const Table& root,
 
 // cohesion = "capillary" with its liquid's properties (contact/capillary.hpp).
 void parse_cohesion(const Table& t, ContactConfig& c) {
-  c.cohesion = t.choice("cohesion", {"none", "capillary"}, c.cohesion);
+  c.cohesion = t.choice("cohesion", sub_model_names("cohesion"), c.cohesion);
   const char* keys[] = {"surface_tension", "contact_angle", "capillary_c", "ruptured_liquid"};
   if (c.cohesion != "capillary") {
     for (const char* k : keys) t.reject(k, "unless cohesion = \"capillary\"");
@@ -204,6 +205,21 @@ void parse_cohesion(const Table& t, ContactConfig& c) {
   c.ruptured_liquid = t.choice("ruptured_liquid", {"grains", "lost"}, c.ruptured_liquid);
 }
 
+// Whether the normal law `name` (a registered one) reads contact.kn and contact.kt.
+bool law_takes_spring_constants(const std::string& name) {
+  return NormalLaws::visit(*NormalLaws::find(name),
+                           []<class Law>() { return Law::kSpringConstants; });
+}
+
+// The laws that read contact.kn and contact.kt, for messages: normal = "linear", ...
+std::string spring_laws() {
+  std::string out;
+  for (std::string_view name : NormalLaws::kNames)
+    if (law_takes_spring_constants(std::string(name)))
+      out += (out.empty() ? "normal = " : ", ") + in_quotes(std::string(name));
+  return out;
+}
+
 ContactConfig parse_contact(const Table& root) {
   ContactConfig c;
   const auto t = root.table("contact");
@@ -211,20 +227,22 @@ ContactConfig parse_contact(const Table& root) {
   t->check_keys({"normal", "tangential", "attractive_damping", "keep_spring_length", "kn", "kt",
                  "cohesion", "surface_tension", "contact_angle", "capillary_c", "ruptured_liquid",
                  "rolling", "rolling_damping"});
-  c.normal = t->choice("normal", {"hertz", "linear"}, c.normal);
-  c.tangential = t->choice("tangential", {"history", "none"}, c.tangential);
+  // The names are the registry's (contact/registry.hpp).
+  c.normal = t->choice("normal", sub_model_names("normal"), c.normal);
+  c.tangential = t->choice("tangential", sub_model_names("tangential"), c.tangential);
   c.attractive_damping = t->boolean_or("attractive_damping", c.attractive_damping);
   c.keep_spring_length = t->boolean_or("keep_spring_length", c.keep_spring_length);
   c.loc = t->loc();
   parse_cohesion(*t, c);
-  c.rolling = t->choice("rolling", {"none", "epsd"}, c.rolling);
+  c.rolling = t->choice("rolling", sub_model_names("rolling"), c.rolling);
   if (c.rolling == "none")
     t->reject("rolling_damping", "unless rolling = \"epsd\"");
   else
     c.rolling_damping =
         t->number_or("rolling_damping", Range{0.0, 1.0, false, false}, c.rolling_damping);
-  if (c.normal != "linear") {
-    const std::string why = "to normal = " + in_quotes(c.normal) + " (only to normal = \"linear\")";
+  if (!law_takes_spring_constants(c.normal)) {
+    const std::string why =
+        "to normal = " + in_quotes(c.normal) + " (only to " + spring_laws() + ")";
     t->reject("kn", why);
     t->reject("kt", why);
     return c;

@@ -326,7 +326,7 @@ std::string Table::required_string(std::string_view key) const {
   return *s;
 }
 
-std::string Table::choice(std::string_view key, std::initializer_list<std::string_view> options,
+std::string Table::choice(std::string_view key, std::span<const std::string_view> options,
                           const std::string& fallback) const {
   const auto s = string(key);
   if (!s) return fallback;

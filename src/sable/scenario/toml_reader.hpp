@@ -12,6 +12,7 @@
 #include <initializer_list>
 #include <limits>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -103,8 +104,13 @@ class Table {
   std::optional<std::string> string(std::string_view key) const;
   std::string required_string(std::string_view key) const;
   // A string that must be one of `options`.
-  std::string choice(std::string_view key, std::initializer_list<std::string_view> options,
+  std::string choice(std::string_view key, std::span<const std::string_view> options,
                      const std::string& fallback) const;
+  std::string choice(std::string_view key, std::initializer_list<std::string_view> options,
+                     const std::string& fallback) const {
+    return choice(key, std::span<const std::string_view>(options.begin(), options.size()),
+                  fallback);
+  }
   bool boolean_or(std::string_view key, bool fallback) const;
   std::optional<Vec3a> vector(std::string_view key, int n) const;
   Vec3a required_vector(std::string_view key, int n) const;

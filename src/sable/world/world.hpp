@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "sable/collision/neighbor_list.hpp"
-#include "sable/contact/contact_model.hpp"
+#include "sable/contact/registry.hpp"
 #include "sable/core/material.hpp"
 #include "sable/core/particles.hpp"
 #include "sable/core/rng.hpp"
