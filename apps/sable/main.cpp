@@ -22,6 +22,7 @@
 #include "sable/io/snapshot.hpp"
 #include "sable/scenario/config.hpp"
 #include "sable/scenario/runner.hpp"
+#include "sable/scenario/snapshot_sample.hpp"
 #include "sable/scenario/verify.hpp"
 
 namespace {
@@ -196,7 +197,7 @@ int cmd_analyze(sable::AnalyzeOptions a) {
     const char* env = std::getenv("SABLE_PLOT_SCRIPT");
     a.plot_script = env ? env : SABLE_SOURCE_DIR "/scripts/plot_analysis.py";
   }
-  const std::string dir = sable::run_analysis(a);
+  const std::string dir = sable::run_analysis(a, sable::snapshot_loaders());
   std::cerr << "analysis written to " << dir << "\n";
   return 0;
 }

@@ -27,6 +27,7 @@
 #include "sable/analysis/sample.hpp"
 #include "sable/core/error.hpp"
 #include "sable/io/snapshot.hpp"
+#include "sable/scenario/snapshot_sample.hpp"
 #include "sable/scenario/verify.hpp"
 #include "snapshot_edits.hpp"
 

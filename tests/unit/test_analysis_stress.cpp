@@ -18,6 +18,7 @@
 #include "sable/analysis/stress.hpp"
 #include "sable/analysis/wall_stress.hpp"
 #include "sable/core/error.hpp"
+#include "sable/scenario/snapshot_sample.hpp"
 
 namespace fs = std::filesystem;
 using namespace sable;

@@ -24,6 +24,7 @@
 #include "../unit/run_helpers.hpp"
 #include "sable/analysis/coarse_grain.hpp"
 #include "sable/analysis/sample.hpp"
+#include "sable/scenario/snapshot_sample.hpp"
 
 namespace fs = std::filesystem;
 using namespace sable;

@@ -9,6 +9,7 @@
 #include "../unit/run_helpers.hpp"
 #include "sable/analysis/sample.hpp"
 #include "sable/analysis/stress.hpp"
+#include "sable/scenario/snapshot_sample.hpp"
 
 namespace fs = std::filesystem;
 using namespace sable;

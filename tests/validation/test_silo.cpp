@@ -19,6 +19,7 @@
 #include "sable/analysis/analyze.hpp"
 #include "sable/analysis/sample.hpp"
 #include "sable/io/snapshot.hpp"
+#include "sable/scenario/snapshot_sample.hpp"
 
 namespace fs = std::filesystem;
 using namespace sable;
@@ -138,7 +139,7 @@ Study analyse_case(const Case& c) {
     a.only = {"walls", "janssen", "polarization", "stress"};
     a.wall_bin = 0.018;
     a.out_dir = (c.dir / out).string();
-    run_analysis(a);
+    run_analysis(a, snapshot_loaders());
     return read(c.dir / out / "summary.json");
   };
   st.before = analyse(before, "before");

@@ -142,7 +142,8 @@ std::string default_out_dir(const AnalyzeOptions& opt) {
 }
 
 template <int D>
-std::string analyze(const AnalyzeOptions& opt, const std::string& out_dir) {
+std::string analyze(const AnalyzeOptions& opt, const std::string& out_dir,
+                    const SampleLoaders& loaders) {
   const std::optional<Region<D>> region = parse_region<D>(opt.region);
   const std::optional<RotatingFrame> frame = parse_frame(opt);
   const ResultWriter out(out_dir, opt.snapshots);
@@ -150,7 +151,7 @@ std::string analyze(const AnalyzeOptions& opt, const std::string& out_dir) {
   for (std::size_t k = 0; k < opt.snapshots.size(); ++k) {
     if (opt.log)
       *opt.log << fmt::format("[{}/{}] {}\n", k + 1, opt.snapshots.size(), opt.snapshots[k]);
-    Sample<D> s = load_sample<D>(opt.snapshots[k]);
+    Sample<D> s = loaders.load<D>(opt.snapshots[k]);
     if (frame) s = to_rotating_frame(s, *frame);
     parts.add(s);
   }
@@ -174,7 +175,7 @@ void plot(const AnalyzeOptions& opt, const std::string& out_dir) {
 
 }  // namespace
 
-std::string run_analysis(const AnalyzeOptions& opt) {
+std::string run_analysis(const AnalyzeOptions& opt, const SampleLoaders& loaders) {
   check_options(opt);
   const int dim = snapshot_dimension(opt.snapshots.front());
   for (const auto& s : opt.snapshots)
@@ -182,9 +183,9 @@ std::string run_analysis(const AnalyzeOptions& opt) {
       throw InputError(fmt::format("{}: a {}D snapshot among {}D ones", s, 5 - dim, dim));
   const std::string out_dir = default_out_dir(opt);
   if (dim == 2)
-    analyze<2>(opt, out_dir);
+    analyze<2>(opt, out_dir, loaders);
   else
-    analyze<3>(opt, out_dir);
+    analyze<3>(opt, out_dir, loaders);
   if (opt.plot) plot(opt, out_dir);
   return out_dir;
 }

@@ -24,6 +24,8 @@
 
 namespace sable {
 
+struct SampleLoaders;
+
 struct AnalyzeOptions {
   std::vector<std::string> snapshots;
   std::string out_dir;            // empty: "analysis" beside the first snapshot
@@ -53,6 +55,7 @@ inline constexpr const char* kAnalyses[] = {
 
 // Runs the analyses; returns the output directory. Throws InputError for bad options or
 // snapshots (naming the file or the option), before anything is written where possible.
-std::string run_analysis(const AnalyzeOptions& opt);
+// `loaders` read the snapshots (scenario/snapshot_sample.hpp: snapshot_loaders()).
+std::string run_analysis(const AnalyzeOptions& opt, const SampleLoaders& loaders);
 
 }  // namespace sable

@@ -8,7 +8,6 @@
 
 #include "sable/core/error.hpp"
 #include "sable/io/snapshot.hpp"
-#include "sable/scenario/build.hpp"
 #include "sable/world/world.hpp"
 
 namespace sable {
@@ -174,29 +173,6 @@ int snapshot_dimension(const std::string& path) {
 }
 
 template <int D>
-Sample<D> load_sample(const std::string& path) {
-  const SnapshotInfo info = read_snapshot_info(path);
-  if (info.dimension != D)
-    throw InputError(fmt::format("{}: a {}D snapshot, but a {}D analysis was asked for", path,
-                                 info.dimension, D));
-  // The scenario text inside the snapshot gives materials, walls and the contact law; the
-  // grains themselves come from the snapshot, so generators are not re-run.
-  ScenarioConfig cfg;
-  try {
-    cfg = parse_stored_scenario(info.scenario_text, path);
-  } catch (const InputError& e) {
-    throw InputError(fmt::format("{}: {}", path, e.what()));
-  }
-  World<D> w;
-  build_model(cfg, w);
-  load_snapshot(path, w);
-  Sample<D> s = make_sample(
-      w, cfg.sim.solver == "cd" ? ForceGeometry::kContactDynamics : ForceGeometry::kSoft);
-  s.source = path;
-  return s;
-}
-
-template <int D>
 double Region<D>::volume(double thickness) const {
   if (!bounded()) throw InputError("the volume of an unbounded region was asked for");
   double v = 1.0;
@@ -225,8 +201,6 @@ template struct Region<2>;
 template struct Region<3>;
 template Sample<2> make_sample(const World<2>&, ForceGeometry);
 template Sample<3> make_sample(const World<3>&, ForceGeometry);
-template Sample<2> load_sample(const std::string&);
-template Sample<3> load_sample(const std::string&);
 template void check_contact_indices(const Sample<2>&);
 template void check_contact_indices(const Sample<3>&);
 template Region<2> grain_bounds(const Sample<2>&);

@@ -1,9 +1,10 @@
 // What every analysis reads: one instant of a run, as flat arrays, independent of the solver.
 //
-// A Sample is made from a World (a live run, or a snapshot loaded through its scenario). It
-// holds the grains (positions, velocities, accelerations, sizes, masses), the walls, and one
-// record per force-carrying contact. DEM and CD snapshots give the same kind of Sample: DEM
-// stores its contact forces, CD its impulses divided by the step, in the same slots.
+// A Sample is made from a World (a live run, or a snapshot loaded through its scenario:
+// scenario/snapshot_sample.hpp). It holds the grains (positions, velocities, accelerations,
+// sizes, masses), the walls, and one record per force-carrying contact. DEM and CD snapshots give
+// the same kind of Sample: DEM stores its contact forces, CD its impulses divided by the step, in
+// the same slots.
 //
 // Conventions (docs/analysis.md):
 //  - n points from grain i towards its partner (grain j, or into the wall);
@@ -30,6 +31,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -105,11 +107,21 @@ struct Sample {
 template <int D>
 Sample<D> make_sample(const World<D>& world, ForceGeometry geometry = ForceGeometry::kSoft);
 
-// Load a snapshot: the world is rebuilt from the scenario text stored inside it, then its
-// dynamic state is read. Throws InputError naming the file if it is missing, truncated or not
-// a Sable snapshot, or of the other dimension than D.
-template <int D>
-Sample<D> load_sample(const std::string& snapshot_path);
+// Reads a snapshot into a Sample. A snapshot needs its World rebuilt (materials, walls and the
+// contact law, from the scenario stored inside it) before its state can be read: that is the
+// scenario layer's work (scenario/snapshot_sample.hpp gives these loaders), so the analyses
+// take the loaders from their caller rather than reach up for them.
+struct SampleLoaders {
+  std::function<Sample<2>(const std::string&)> load2;
+  std::function<Sample<3>(const std::string&)> load3;
+  template <int D>
+  Sample<D> load(const std::string& snapshot_path) const {
+    if constexpr (D == 2)
+      return load2(snapshot_path);
+    else
+      return load3(snapshot_path);
+  }
+};
 
 // Throws InputError (naming s.source) if a contact names a grain the sample does not hold:
 // analyses that index grains by contact call it once before they start.
