@@ -1,6 +1,6 @@
 // Micro-benchmarks of the hot pieces: the contact kernel, the neighbour build and a full DEM
-// step on a dense bed. Speed is measured here, never in tests (docs/BENCHMARKS.md,
-// "Micro-benchmarks").
+// step on a dense bed. Speed is measured here, never in tests; docs/BENCHMARKS.md records the
+// numbers.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>

@@ -169,7 +169,7 @@ TEST(CoarseGrainKernel, GaussianNormClosedForm) {
 // Guards: one grain on a fine grid: the sum over nodes of rho times the cell volume is the
 // grain's mass, and of phi times it the grain's volume. Grid spacing w/8 over the grain's
 // support plus a cell: the midpoint rule errs by 1.1e-4 (sphere), 1.5e-4 (Gaussian, whose
-// cut at 3w is a jump), 2e-5 (Lucy) as measured; 1e-3 bounds all three in 2D and 3D.
+// cut at 3w is a jump), 2e-5 (Lucy), measured; 1e-3 bounds all three in 2D and 3D.
 template <int D>
 void check_mass(CgKernel k) {
   using Vec = typename Space<D>::Vec;

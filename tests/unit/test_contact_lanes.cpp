@@ -1,8 +1,9 @@
 // The batched Hertz-Mindlin law (contact/contact_lanes.hpp) against the scalar one
 // (contact_force in contact/contact_model.hpp): the same bits, lane for lane, for every copy
 // (instruction set) this machine can run and every option of the law. The DEM's dry pass in
-// 3D runs the batched law; its results are the scalar law's (and every earlier version's state
-// hashes) only if this holds exactly, so the tolerance is zero: bits, not values.
+// 3D runs the batched law, its wall contacts the scalar one: a state hash is the same on every
+// machine, whichever copy it runs, only if this holds exactly, so the tolerance is zero: bits,
+// not values.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 

@@ -19,8 +19,8 @@ template <int D>
 }
 
 // x - x is exactly 0 for a finite x and NaN otherwise: a branch-free test, where Eigen's
-// allFinite() branches per component (a fused grain loop spent 16 % of its samples in it,
-// docs/BENCHMARKS.md, "The DEM step's design").
+// allFinite() branches per component (a fused grain loop spends about 16 % of its perf
+// samples in it).
 template <int D>
 [[gnu::always_inline]] inline bool position_ok(const typename Space<D>::Vec& x) {
   return (x - x).squaredNorm() == 0.0;

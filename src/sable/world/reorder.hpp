@@ -7,8 +7,8 @@
 // slots by neighbour cell, row by row (as LAMMPS' `atom_modify sort` bins atoms), puts each
 // grain's partners in its own row of cells, the rows beside it and the layers of cells above
 // and below it: a few fixed distances in slots, which the hardware prefetches. A Morton
-// (Z-order) curve of the same cells was measured too: 25-32 % slower than rows on two threads
-// (docs/BENCHMARKS.md: BM_DemStepOrder in "Micro-benchmarks", the curve in "Tried and not kept").
+// (Z-order) curve of the same cells is 25-32 % slower than rows on two threads
+// (BM_DemStepOrder with the curve in place of the rows).
 //
 // Reordering moves every per-grain array (ParticleStore, the liquid films) and renames the
 // slots in the neighbour lists so that each contact keeps its history: a pair whose members
@@ -32,8 +32,8 @@ namespace sable {
 // grains or more, by either solver. Smaller beds are left in their order: a bed that small is
 // in cache as a whole and the DEM step runs it on one thread (DemSolver splits from 2,048
 // items, grains plus near-list entries), so the order of its slots hardly matters, and its
-// bits stay those of earlier versions. Measured on dense lattices with shuffled slots
-// (BM_DemStepOrder, BM_CdStepOrder; docs/BENCHMARKS.md, "Micro-benchmarks"):
+// slots stay in the order the scenario made them. On dense lattices with shuffled slots
+// (BM_DemStepOrder, BM_CdStepOrder):
 // DEM, one thread: no loss at 2,197 grains, 19 % at 19,683, 54 % at 125,000; two threads:
 // anywhere from none to 66 % at 2,197 and 19,683 grains, from one run to the next (the
 // blocks' cut settles differently); contact dynamics, 10 sweeps a step: 3.2x slower at 2,197

@@ -48,7 +48,7 @@ struct World {
   double viscous_rate = 0.0;  // background damping nu (1/s), set per stage; DEM only
   // Integrate orientations. A disk's or sphere's orientation enters no force, so a run that
   // does not read it may leave it as it is (LIGGGHTS' atom_style granular keeps none); the
-  // dense pour bed then steps 8 % faster (docs/BENCHMARKS.md, "The DEM step's design").
+  // dense pour bed then steps about 8 % faster (bench/ab_dense.sh measures it).
   bool track_orientation = true;
   // Every how many neighbour-list builds the solver (DEM or contact dynamics) moves the
   // grains into cell order first (world/reorder.hpp): their slots then follow space, and a
