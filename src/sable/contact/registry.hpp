@@ -1,6 +1,6 @@
 // The registry: every contact law and sub-model Sable knows, by category and name. It is the
 // single source for the scenario's names (scenario/parse.cpp), the build's choice
-// (scenario/build.cpp), `sable info --models` and the docs.
+// (scenario/build.cpp), `sable models` and the docs.
 //
 // Normal laws are types (one file each) listed in NormalLaws; the DEM pair pass, the servo
 // and the time-step check dispatch on a World's row through NormalLaws::visit. The other
