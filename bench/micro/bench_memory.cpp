@@ -1,6 +1,6 @@
 // What the machine's caches and memory give a loop over the grains, on one thread and on two:
 // the arithmetic and the arrays of the DEM step's opening loop (dem/grain_loops.cpp,
-// kick_drift: half kick, drift, the largest displacements from the two lists' reference
+// kick_and_drift: half kick, drift, the largest displacements from the two lists' reference
 // positions), on arrays of its own, hot in the caches from the pass before. It moves the
 // bytes the real loop moves and does nothing else. Two threads near twice one here mean the
 // memory system does not stop a grain loop of the pour bed's size from scaling; `swap` hands

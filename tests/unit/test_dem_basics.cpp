@@ -152,7 +152,7 @@ std::size_t run_lattice_bed(sable::World<3>& w, int threads, double spacing = 1.
 // The thread count does not change a bit, in a bed where every grain touches its lattice
 // neighbours from the first step (~3 contacts per grain, thousands in all, so the force pass
 // really splits): each thread takes a block of grains and adds forces as it goes; the grains
-// another block reaches are summed afterwards, in the same order (DemSolver::pair_forces).
+// another block reaches are summed afterwards, in the same order (DemSolver::dry_pair_forces).
 // 1, 2, 3 and 4 threads: more blocks, more such grains. Exact equality of the state hash.
 TEST(DemBasics, ThreadCountDoesNotChangeABit) {
   auto run = [](int threads) {

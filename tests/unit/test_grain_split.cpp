@@ -39,7 +39,7 @@ void time_step(GrainSplit& split, const std::vector<std::uint32_t>& begin,
   split.end_step();
 }
 
-// Runs `steps` steps, cutting again whenever the split asks (as DemSolver::update_split does).
+// Runs `steps` steps, cutting again whenever the split asks (as DemSolver::update_pair_split does).
 void run(GrainSplit& split, const std::vector<std::uint32_t>& begin, int blocks,
          const std::vector<double>& speeds, int steps) {
   const std::size_t n = begin.size() - 1;
@@ -230,13 +230,13 @@ TEST(GrainSplit, TailsHoldTheirShareOfTheWorkAndNothingElseIsShared) {
   }
 }
 
-// The pair pass's two-ended tails (take_chunk() from the front, take_back() from the far end):
-// block 0's tail of 500 grains, chunks of 64, taken in a fixed interleaving (two from the
-// front for each one from the back) until none is left. Every tail grain is handed out
-// exactly once, the front's chunks are consecutive from the tail's start, the back's from the
-// block's end down, they meet without overlap, and taken_back_from() is where the back's
-// chunks begin (exact: a grain handed out twice or never would change the step's results;
-// one taken from the back and not known as such would not be gathered).
+// The pair pass's two-ended tails (take_chunk() from the front, take_chunk_from_back() from
+// the far end): block 0's tail of 500 grains, chunks of 64, taken in a fixed interleaving
+// (two from the front for each one from the back) until none is left. Every tail grain is
+// handed out exactly once, the front's chunks are consecutive from the tail's start, the
+// back's from the block's end down, they meet without overlap, and first_taken_from_back() is
+// where the back's chunks begin (exact: a grain handed out twice or never would change the
+// step's results; one taken from the back and not known as such would not be gathered).
 TEST(GrainSplit, TwoEndedTailsMeetWithoutOverlap) {
   const std::size_t n = 2000;
   GrainSplit split;
@@ -245,7 +245,7 @@ TEST(GrainSplit, TwoEndedTailsMeetWithoutOverlap) {
   const std::uint32_t tail = split.tail(0), end = split.bounds()[1];
   ASSERT_EQ(end - tail, 500u);  // half of block 0's 1,000 grains (cut by count)
   split.open_chunks();
-  EXPECT_EQ(split.taken_back_from(0), end);  // nothing taken yet
+  EXPECT_EQ(split.first_taken_from_back(0), end);  // nothing taken yet
   std::vector<int> counts(n, 0);
   std::uint32_t front = tail, back = end, g0 = 0, g1 = 0;
   for (int round = 0;; ++round) {
@@ -256,7 +256,7 @@ TEST(GrainSplit, TwoEndedTailsMeetWithoutOverlap) {
       front = g1;
       for (std::uint32_t g = g0; g < g1; ++g) ++counts[g];
     }
-    if (split.take_back(0, g0, g1)) {
+    if (split.take_chunk_from_back(0, g0, g1)) {
       any = true;
       EXPECT_EQ(g1, back);
       EXPECT_LE(g1 - g0, 64u);
@@ -267,19 +267,19 @@ TEST(GrainSplit, TwoEndedTailsMeetWithoutOverlap) {
     ASSERT_LT(round, 100);
   }
   EXPECT_EQ(front, back);
-  EXPECT_EQ(split.taken_back_from(0), back);
+  EXPECT_EQ(split.first_taken_from_back(0), back);
   EXPECT_LT(back, end);  // the back did take some
   for (std::size_t g = 0; g < n; ++g)
     ASSERT_EQ(counts[g], g >= tail && g < end ? 1 : 0) << "grain " << g;
-  // Block 1, not touched from the back: all from the front, taken_back_from() its end.
+  // Block 1, not touched from the back: all from the front, first_taken_from_back() its end.
   while (split.take_chunk(1, g0, g1)) {
   }
-  EXPECT_EQ(split.taken_back_from(1), n);
+  EXPECT_EQ(split.first_taken_from_back(1), n);
 }
 
 // The same on threads racing for both ends: each thread takes its own block's tail from the
 // front and the others' from the back, as the pair pass does. Every tail grain once, and the
-// grains taken from the back are exactly [taken_back_from(b), end of block b).
+// grains taken from the back are exactly [first_taken_from_back(b), end of block b).
 TEST(GrainSplit, RacingEndsHandOutEveryTailGrainOnce) {
   const std::size_t n = 10007;
   const auto begin = uneven_offsets(n);
@@ -297,11 +297,11 @@ TEST(GrainSplit, RacingEndsHandOutEveryTailGrainOnce) {
         while (split.take_chunk(thread, g0, g1))
           for (std::uint32_t g = g0; g < g1; ++g) front[g].fetch_add(1);
         for (int k = 1; k < blocks; ++k)
-          while (split.take_back((thread + k) % blocks, g0, g1))
+          while (split.take_chunk_from_back((thread + k) % blocks, g0, g1))
             for (std::uint32_t g = g0; g < g1; ++g) back[g].fetch_add(1);
       }
       for (int b = 0; b < blocks; ++b) {
-        const std::uint32_t from = split.taken_back_from(b);
+        const std::uint32_t from = split.first_taken_from_back(b);
         ASSERT_GE(from, split.tail(b));
         for (std::uint32_t g = split.bounds()[b]; g < split.bounds()[b + 1]; ++g) {
           const bool in_tail = g >= split.tail(b);

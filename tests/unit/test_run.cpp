@@ -119,7 +119,7 @@ TEST_P(RunDim, BitIdenticalForOneAndTwoThreads) {
   for (std::size_t at; (at = text.find("steps = 300")) != std::string::npos;)
     text.replace(at, 11, "steps = 60");  // 120 steps: enough for contacts and a rebuild
   // Three threads too: the DEM pass splits the grains into one block per thread, and the
-  // grains other blocks reach are summed apart (DemSolver::pair_forces); more blocks, more
+  // grains other blocks reach are summed apart (DemSolver::dry_pair_forces); more blocks, more
   // such grains.
   std::uint64_t hashes[3];
   for (int threads : {1, 2, 3}) {

@@ -19,7 +19,7 @@ class CdSolver<D>::Problem {
           double h)
       : c_(c), p_(p), walls_(walls), dofs_(dofs), inv_h_(1.0 / h) {}
   std::size_t size() const { return c_.size(); }
-  const LMat& W(std::size_t a) const { return c_.w[a]; }
+  const LMat& W(std::size_t a) const { return c_.W[a]; }
   double mu(std::size_t a) const { return c_.mu[a]; }
   LVec& r(std::size_t a) { return c_.r[a]; }
   double q_norm() const { return q_norm_; }
@@ -68,18 +68,18 @@ class CdSolver<D>::Problem {
   // alone, with 1/I_i + 1/I_j. Called by NLGS after each update of the contact's impulse.
   void solve_extra(std::size_t a) {
     if (c_.m.empty()) return;
-    const double w_r = rolling_compliance(a);
-    if (w_r == 0.0) return;
-    Rot m = c_.m[a] - rolling_velocity(a) / w_r;
+    const double compliance = rolling_compliance(a);
+    if (compliance == 0.0) return;
+    Rot m = c_.m[a] - rolling_velocity(a) / compliance;
     project_roll(m, c_.roll_mu[a] * c_.roll_r[a] * std::max(c_.r[a][0], 0.0));
     apply_couple(a, m - c_.m[a]);
   }
 
   // The couples' share of the natural-map residual (natural_map_error), in the impulses'
   // units: with the couple over the lever, m / R* (an impulse), and the rolling velocity times
-  // it, R* w (a velocity), the law reads F = m / R* - P(m / R* - R* w) onto |.| <= mu_r r_N,
-  // zero iff solved, as Coulomb's law reads r - P_K(r - U). Without it NLGS could stop on
-  // converged impulses while couples still move.
+  // it, R* omega_r (a velocity), the law reads F = m / R* - P(m / R* - R* omega_r) onto
+  // |.| <= mu_r r_N, zero iff solved, as Coulomb's law reads r - P_K(r - U). Without it NLGS
+  // could stop on converged impulses while couples still move.
   void extra_residual(std::size_t a, double& f2, double& r2, double& u2) const {
     using S = Space<D>;
     if (c_.m.empty()) return;
@@ -98,12 +98,13 @@ class CdSolver<D>::Problem {
     return p_.inv_inertia[i] + (c_.wall[a] ? 0.0 : p_.inv_inertia[j]);
   }
 
-  // The relative rolling velocity w_i - w_j (w_i against a wall), twist removed in 3D.
+  // The relative rolling velocity omega_i - omega_j (omega_i against a wall), twist removed
+  // in 3D.
   Rot rolling_velocity(std::size_t a) const {
     const std::uint32_t i = c_.i[a], j = c_.partner[a];
-    Rot w_rel = c_.wall[a] ? p_.w[i] : Rot(p_.w[i] - p_.w[j]);
-    if constexpr (D == 3) w_rel -= w_rel.dot(c_.frame[a].col(0)) * c_.frame[a].col(0);
-    return w_rel;
+    Rot spin_rel = c_.wall[a] ? p_.w[i] : Rot(p_.w[i] - p_.w[j]);
+    if constexpr (D == 3) spin_rel -= spin_rel.dot(c_.frame[a].col(0)) * c_.frame[a].col(0);
+    return spin_rel;
   }
 
   // m onto the disk |m| <= cap.
@@ -138,7 +139,7 @@ void CdSolver<D>::Contacts::clear() {
   frame.clear();
   arm_i.clear();
   arm_j.clear();
-  w.clear();
+  W.clear();
   mu.clear();
   gap.clear();
   r.clear();
@@ -172,12 +173,12 @@ cd::LMat<D> contact_frame(const typename Space<D>::Vec& n) {
 template <int D>
 void CdSolver<D>::initialize() {
   // The lists carry rolling couples exactly when the law has rolling resistance.
-  w_.neighbors.rolling = w_.model.rolling != RollingModel::kNone;
+  world_.neighbors.rolling = world_.model.rolling != RollingModel::kNone;
   // The builds sort the grains into cell order when due (world/reorder.hpp), as in the DEM
   // solver. The contacts, and so the NLGS sweep, follow the list's order: a sort changes the
   // sweep's order, and with it the iterates, not the problem (the same contacts, impulses
   // carried with their pairs). The step keeps no per-grain state of its own to move.
-  reorder_.build_lists(w_);
+  reorder_.build_lists(world_);
 }
 
 // One Moreau-Jean step:
@@ -191,19 +192,20 @@ void CdSolver<D>::initialize() {
 template <int D>
 void CdSolver<D>::step() {
   using S = Space<D>;
-  const double h = w_.dt;
-  auto& p = w_.particles;
+  const double h = world_.dt;
+  auto& p = world_.particles;
   {
     auto scope = timers_.time(Phase::kIntegrate);
     // Gravity is constant, so the theta weighting of smooth forces leaves h g.
     for (std::size_t k = 0; k < p.size(); ++k)
-      if (p.inv_mass[k] != 0.0) p.v[k] += h * w_.gravity;
+      if (p.inv_mass[k] != 0.0) p.v[k] += h * world_.gravity;
     start_wall_bodies();
   }
   {
     auto scope = timers_.time(Phase::kNeighbors);
     // Contacts that can close during this step must be candidates now.
-    if (w_.neighbors.needs_rebuild(p, w_.walls, 2.0 * h * max_speed())) reorder_.build_lists(w_);
+    if (world_.neighbors.needs_rebuild(p, world_.walls, 2.0 * h * max_speed()))
+      reorder_.build_lists(world_);
   }
   {
     auto scope = timers_.time(Phase::kContactBuild);
@@ -211,7 +213,7 @@ void CdSolver<D>::step() {
   }
   {
     auto scope = timers_.time(Phase::kNlgsSolve);
-    Problem problem(c_, p, w_.walls, dofs_, h);
+    Problem problem(c_, p, world_.walls, dofs_, h);
     double q2 = 0.0;
     for (std::size_t a = 0; a < c_.size(); ++a) q2 += problem.velocity(a).squaredNorm();
     problem.set_q_norm(std::sqrt(q2));
@@ -226,15 +228,15 @@ void CdSolver<D>::step() {
       c_.m[a] = S::zero_rot();
       problem.apply_couple(a, m0);
     }
-    result_ = cd::solve_nlgs<D>(problem, s_.nlgs, w_.rng);
+    result_ = cd::solve_nlgs<D>(problem, s_.nlgs, world_.rng);
   }
   if (!std::isfinite(result_.residual)) {
-    check_grain_states(w_);  // names the first grain the non-finite impulses reached
+    check_grain_states(world_);  // names the first grain the non-finite impulses reached
     throw SimulationError(fmt::format(
         "step {}: the contact solver's residual is {} after {} sweeps: a contact's data is not "
         "finite (two grains at one position, or a mass, radius or position that is not a "
         "usable number)",
-        w_.step, result_.residual, result_.iterations));
+        world_.step, result_.residual, result_.iterations));
   }
   store_impulses();
   {
@@ -242,23 +244,24 @@ void CdSolver<D>::step() {
     for (std::size_t k = 0; k < p.size(); ++k) {
       if (p.inv_mass[k] == 0.0) continue;
       p.x[k] += h * p.v[k];
-      if (w_.track_orientation) p.q[k] = S::rotate(p.q[k], p.w[k], h);
+      if (world_.track_orientation) p.q[k] = S::rotate(p.q[k], p.w[k], h);
     }
-    for (auto& wall : w_.walls) wall.point += h * wall.velocity;
+    for (auto& wall : world_.walls) wall.point += h * wall.velocity;
   }
-  w_.time += h;
-  ++w_.step;
+  world_.time += h;
+  ++world_.step;
   diag_.iterations = result_.iterations;
   diag_.residual = result_.residual;
   diag_.converged = result_.converged;
-  check_grain_states(w_);
+  check_grain_states(world_);
 }
 
 template <int D>
 void CdSolver<D>::set_wall_bodies(const std::vector<WallBody>& bodies) {
-  dofs_.assign(bodies.empty() ? 0 : w_.walls.size(), WallDof{});
+  dofs_.assign(bodies.empty() ? 0 : world_.walls.size(), WallDof{});
   for (const WallBody& b : bodies) {
-    if (b.wall >= w_.walls.size() || w_.walls[b.wall].kind != WallKind::kPlane || !(b.mass > 0.0))
+    if (b.wall >= world_.walls.size() || world_.walls[b.wall].kind != WallKind::kPlane ||
+        !(b.mass > 0.0))
       throw InputError(fmt::format(
           "wall body {}: a plane wall with a mass > 0 is needed (mass {} kg)", b.wall, b.mass));
     WallDof& d = dofs_[b.wall];
@@ -276,8 +279,8 @@ void CdSolver<D>::start_wall_bodies() {
   for (std::size_t k = 0; k < dofs_.size(); ++k) {
     WallDof& d = dofs_[k];
     if (d.inv_mass == 0.0) continue;
-    Wall<D>& wall = w_.walls[k];
-    d.free_speed = wall.velocity.dot(wall.normal) + w_.dt * d.force * d.inv_mass;
+    Wall<D>& wall = world_.walls[k];
+    d.free_speed = wall.velocity.dot(wall.normal) + world_.dt * d.force * d.inv_mass;
     d.impulse = 0.0;
     wall.velocity = d.speed() * wall.normal;
   }
@@ -285,7 +288,7 @@ void CdSolver<D>::start_wall_bodies() {
 
 template <int D>
 double CdSolver<D>::max_speed() const {
-  const auto& p = w_.particles;
+  const auto& p = world_.particles;
   double vmax = 0.0;
   for (std::size_t k = 0; k < p.size(); ++k)
     vmax = std::max(vmax, p.v[k].norm() + p.radius[k] * std::sqrt(Space<D>::rot_norm2(p.w[k])));
@@ -298,10 +301,10 @@ void CdSolver<D>::add_contact(std::uint32_t i, std::uint32_t partner, std::uint3
                               const Vec& n, double gap, const Vec& arm_i, const Vec& arm_j,
                               const PairParams& pp, const Vec& force, const Rot& couple) {
   using S = Space<D>;
-  const auto& p = w_.particles;
+  const auto& p = world_.particles;
   const LMat frame = contact_frame<D>(n);
   // Delassus block, column by column: the relative velocity change per unit local impulse.
-  LMat w;
+  LMat W;
   for (int c = 0; c < D; ++c) {
     const Vec P = frame.col(c);
     Vec dv = p.inv_mass[i] * P + S::spin_velocity(p.inv_inertia[i] * S::moment(arm_i, P), arm_i);
@@ -310,11 +313,11 @@ void CdSolver<D>::add_contact(std::uint32_t i, std::uint32_t partner, std::uint3
             S::spin_velocity(p.inv_inertia[partner] * S::moment(arm_j, P), arm_j);
     if constexpr (kWall) {
       if (is_body(partner)) {  // a wall body recoils along its normal only
-        const Vec& nw = w_.walls[partner].normal;
+        const Vec& nw = world_.walls[partner].normal;
         dv += dofs_[partner].inv_mass * nw.dot(P) * nw;
       }
     }
-    w.col(c) = frame.transpose() * dv;
+    W.col(c) = frame.transpose() * dv;
   }
   c_.i.push_back(i);
   c_.partner.push_back(partner);
@@ -323,16 +326,16 @@ void CdSolver<D>::add_contact(std::uint32_t i, std::uint32_t partner, std::uint3
   c_.frame.push_back(frame);
   c_.arm_i.push_back(arm_i);
   c_.arm_j.push_back(arm_j);
-  c_.w.push_back(w);
+  c_.W.push_back(W);
   c_.mu.push_back(pp.friction);
   c_.gap.push_back(gap);
-  c_.r.push_back(s_.warm_start ? LVec(frame.transpose() * force * w_.dt) : LVec::Zero());
-  if (w_.model.rolling == RollingModel::kNone) return;
+  c_.r.push_back(s_.warm_start ? LVec(frame.transpose() * force * world_.dt) : LVec::Zero());
+  if (world_.model.rolling == RollingModel::kNone) return;
   const double r_i = p.radius[i];
   const double r_eff = kWall ? r_i : r_i * p.radius[partner] / (r_i + p.radius[partner]);
   c_.roll_mu.push_back(pp.rolling_friction);
   c_.roll_r.push_back(r_eff);
-  Rot m = s_.warm_start ? Rot(couple * w_.dt) : S::zero_rot();
+  Rot m = s_.warm_start ? Rot(couple * world_.dt) : S::zero_rot();
   if constexpr (D == 3) m -= m.dot(n) * n;  // last step's couple, in the new tangent plane
   c_.m.push_back(m);
 }
@@ -345,14 +348,14 @@ template <int D>
 void CdSolver<D>::build_contacts() {
   using S = Space<D>;
   c_.clear();
-  const auto& p = w_.particles;
-  auto& pl = w_.neighbors.pairs;
-  auto& wl = w_.neighbors.wall_pairs;
-  const double reach = 2.0 * w_.dt * max_speed();
+  const auto& p = world_.particles;
+  auto& pl = world_.neighbors.pairs;
+  auto& wl = world_.neighbors.wall_pairs;
+  const double reach = 2.0 * world_.dt * max_speed();
   // Rolling resistance: the lists' `roll` slots (one per entry, kept by build() and
   // load_snapshot()) hold each contact's couple (N m) on its grain i, for the warm start and
   // the outputs (DEM keeps its rolling spring there).
-  const bool rolling = w_.model.rolling != RollingModel::kNone;
+  const bool rolling = world_.model.rolling != RollingModel::kNone;
   for (std::size_t k = 0; k < pl.size(); ++k) {
     const std::uint32_t i = pl.i[k], j = pl.j[k];
     const Vec d = p.x[i] - p.x[j];
@@ -365,26 +368,26 @@ void CdSolver<D>::build_contacts() {
     }
     const Vec n = d / dist;
     add_contact<false>(i, j, static_cast<std::uint32_t>(k), n, gap, -p.radius[i] * n,
-                       p.radius[j] * n, w_.materials.pair(p.material[i], p.material[j]),
+                       p.radius[j] * n, world_.materials.pair(p.material[i], p.material[j]),
                        pl.force[k], rolling ? pl.roll[k] : S::zero_rot());
   }
   for (std::size_t k = 0; k < wl.size(); ++k) {
     const std::uint32_t i = wl.i[k];
-    const Wall<D>& wall = w_.walls[wl.wall[k]];
+    const Wall<D>& wall = world_.walls[wl.wall[k]];
     Vec n;
     const double dist = wall.distance(p.x[i], n);
     // A wall body's speed can change during the solve, up to its cap.
     const double wall_speed = is_body(wl.wall[k]) && std::isfinite(dofs_[wl.wall[k]].max_speed)
                                   ? dofs_[wl.wall[k]].max_speed
                                   : wall.velocity.norm();
-    if (dist - p.radius[i] > reach + w_.dt * wall_speed) {
+    if (dist - p.radius[i] > reach + world_.dt * wall_speed) {
       wl.force[k].setZero();
       if (rolling) wl.roll[k] = S::zero_rot();
       continue;
     }
     add_contact<true>(i, wl.wall[k], static_cast<std::uint32_t>(k), n, dist - p.radius[i],
                       -p.radius[i] * n, Vec::Zero(),
-                      w_.materials.pair(p.material[i], wall.material), wl.force[k],
+                      world_.materials.pair(p.material[i], wall.material), wl.force[k],
                       rolling ? wl.roll[k] : S::zero_rot());
   }
 }
@@ -393,31 +396,31 @@ void CdSolver<D>::build_contacts() {
 template <int D>
 void CdSolver<D>::store_impulses() {
   using S = Space<D>;
-  auto& p = w_.particles;
-  auto& nl = w_.neighbors;
+  auto& p = world_.particles;
+  auto& nl = world_.neighbors;
   for (std::size_t k = 0; k < p.size(); ++k) {
     p.f[k].setZero();
     p.t[k] = S::zero_rot();
   }
-  for (auto& wall : w_.walls) wall.force.setZero();
+  for (auto& wall : world_.walls) wall.force.setZero();
   diag_.touching = 0;
   diag_.max_overlap_ratio = 0.0;
   for (std::size_t a = 0; a < c_.size(); ++a) {
-    const Vec f = c_.frame[a] * c_.r[a] / w_.dt;
+    const Vec f = c_.frame[a] * c_.r[a] / world_.dt;
     const std::uint32_t i = c_.i[a], j = c_.partner[a];
     if (f.squaredNorm() > 0.0) ++diag_.touching;
     p.f[i] += f;
     p.t[i] += S::moment(c_.arm_i[a], f);
     if (c_.wall[a]) {
       nl.wall_pairs.force[c_.source[a]] = f;
-      w_.walls[j].force -= f;
+      world_.walls[j].force -= f;
     } else {
       nl.pairs.force[c_.source[a]] = f;
       p.f[j] -= f;
       p.t[j] -= S::moment(c_.arm_j[a], f);
     }
     if (!c_.m.empty()) {
-      const Rot couple = c_.m[a] / w_.dt;
+      const Rot couple = c_.m[a] / world_.dt;
       p.t[i] += couple;
       if (c_.wall[a]) {
         nl.wall_pairs.roll[c_.source[a]] = couple;

@@ -40,7 +40,7 @@ class CdSolver final : public Solver {
   using LVec = cd::LVec<D>;
   using LMat = cd::LMat<D>;
 
-  CdSolver(World<D>& world, const CdSettings& settings) : w_(world), s_(settings) {}
+  CdSolver(World<D>& world, const CdSettings& settings) : world_(world), s_(settings) {}
   std::string_view name() const override { return "cd"; }
   void initialize() override;
   void step() override;
@@ -61,7 +61,7 @@ class CdSolver final : public Solver {
     std::vector<std::uint32_t> source;   // index into the pair or wall-pair list
     std::vector<LMat> frame;             // columns n, t1 (, t2): local -> world
     std::vector<Vec> arm_i, arm_j;       // centre -> contact point
-    std::vector<LMat> w;                 // Delassus diagonal block
+    std::vector<LMat> W;                 // Delassus diagonal block
     std::vector<double> mu;
     std::vector<double> gap;  // at the start of the step; max(gap, 0) / h joins U_N
     std::vector<LVec> r;      // impulse, local frame
@@ -98,7 +98,7 @@ class CdSolver final : public Solver {
   double max_speed() const;
   bool is_body(std::size_t wall) const { return wall < dofs_.size() && dofs_[wall].inv_mass > 0.0; }
 
-  World<D>& w_;
+  World<D>& world_;
   CdSettings s_;
   StepDiagnostics diag_;
   PhaseTimers timers_;

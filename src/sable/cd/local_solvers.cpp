@@ -54,8 +54,8 @@ double max_eigenvalue(const LMat<d>& A) {
 //     diagonal (up to the T1/T2 anisotropy): no more N/T imbalance.
 //  2. rho = 1 / lambda_max(W^) (symmetric part): the largest step with a monotone contraction in
 //     the stick state (rate 1 - lambda_min/lambda_max). The "optimal" Richardson step
-//     2 / (lambda_min + lambda_max) was tried: faster on mildly conditioned blocks, but the De
-//     Saxce term makes it cycle on strongly N-T coupled ones, where 1 / lambda_max converges.
+//     2 / (lambda_min + lambda_max) is faster on mildly conditioned blocks, but the De Saxce
+//     term makes it cycle on strongly N-T coupled ones, where 1 / lambda_max converges.
 // In the original variables this is the paper's iteration with rho_N = rho s_N^2 on the normal
 // and rho_T = rho s_T^2 on the tangential part and the projection taken in the matching metric.
 // Known limit: while sliding, r_N converges at the rate 1 - rho D / (1 + mu^2) (D = W_NN -
@@ -110,11 +110,11 @@ bool slide_2d(const LMat<2>& W, const LVec<2>& q, double mu, const LVec<2>& r_in
 }
 
 // Sliding in 3D: r = r_N (1, -mu e), e = (cos t, sin t) the sliding direction. U_N = 0 gives
-// r_N = -q_N / D(e) with D(e) = W_NN - mu w.e (w = W_NT), and then D U_T = V(e) with
+// r_N = -q_N / D(e) with D(e) = W_NN - mu c.e (c = W_NT), and then D U_T = V(e) with
 //   V(e) = -q_N b + q_N mu A e + D(e) q_T        (b = W_TN, A = W_TT).
 // The law asks U_T = lambda e, lambda >= 0, D > 0: t is a root of g(t) = e x V(e). With
 // e x v = e . (J v), J v = (v_y, -v_x):
-//   g = L.e + e^T Q e,  L = J (W_NN q_T - q_N b),  Q = sym(q_N mu J A - mu (J q_T) w^T),
+//   g = L.e + e^T Q e,  L = J (W_NN q_T - q_N b),  Q = sym(q_N mu J A - mu (J q_T) c^T),
 // a trigonometric polynomial of degree 2, hence at most 4 roots, found all at once: with
 // u = tan((t - t0)/2), (1 + u^2)^2 g is a quartic in u, solved by the eigenvalues of its
 // companion matrix, then each root is polished by Newton on g. The offset t0 is the one of 8
@@ -135,9 +135,9 @@ Eigen::Vector2d direction(double t) {
 
 SlideTrig slide_function(const LMat<3>& W, const LVec<3>& q, double mu) {
   const Eigen::Matrix2d J{{0.0, 1.0}, {-1.0, 0.0}};
-  const Eigen::Vector2d b = W.block<2, 1>(1, 0), w = W.block<1, 2>(0, 1).transpose();
+  const Eigen::Vector2d b = W.block<2, 1>(1, 0), c = W.block<1, 2>(0, 1).transpose();
   const Eigen::Vector2d qt = q.tail<2>();
-  const Eigen::Matrix2d M = q[0] * mu * J * W.block<2, 2>(1, 1) - mu * (J * qt) * w.transpose();
+  const Eigen::Matrix2d M = q[0] * mu * J * W.block<2, 2>(1, 1) - mu * (J * qt) * c.transpose();
   return {J * (W(0, 0) * qt - q[0] * b), 0.5 * (M + M.transpose())};
 }
 
@@ -211,7 +211,8 @@ LVec<d> solve_exact(const LMat<d>& W, const LVec<d>& q, double mu, const LVec<d>
   }
   LMat<d> Winv;
   bool invertible = false;
-  // The determinant's scale, scale^d, as a product: std::pow was 9 % of the NLGS's instructions.
+  // The determinant's scale, scale^d, as a product: std::pow would be 9 % of the NLGS's
+  // instructions (callgrind on bench/pour_cd.sh).
   const double scale = W.cwiseAbs().maxCoeff();
   double scale_d = scale;
   for (int k = 1; k < d; ++k) scale_d *= scale;

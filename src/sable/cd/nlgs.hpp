@@ -40,7 +40,7 @@ struct NlgsSettings {
   LocalSolver local = LocalSolver::kBipotential;
   SweepOrder order = SweepOrder::kForward;
   Criterion criterion = Criterion::kNatural;
-  double relaxation = 1.0;  // r_a <- (1 - w) r_a + w r_a_local
+  double relaxation = 1.0;  // r_a <- (1 - relaxation) r_a + relaxation r_a_local
   double tolerance = 1e-4;
   int max_iterations = 1000;  // sweeps
 };

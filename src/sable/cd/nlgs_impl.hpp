@@ -14,8 +14,8 @@
 namespace sable::cd {
 
 // The projection and the natural map are here, not in local_solvers.cpp, so that the residual
-// pass after every sweep (natural_map_error) inlines them: out of line, that pass ran 14 % more
-// instructions (callgrind, the CD pour benchmark).
+// pass after every sweep (natural_map_error) inlines them: out of line, that pass runs 14 %
+// more instructions (callgrind on bench/pour_cd.sh).
 // |x_T|, the norm of the tangential part.
 template <int d>
 double tangent_norm(const LVec<d>& x) {
@@ -67,7 +67,7 @@ struct SweepStats {
 
 // One Gauss-Seidel sweep over the contacts in `order`. For each contact a:
 //   U = U_a (current), q = U - W_aa r_a, r_loc = solve_local(W_aa, q, mu_a, r_a),
-//   r_a <- r_a + w (r_loc - r_a)  (w = s.relaxation), through problem.apply().
+//   r_a <- r_a + s.relaxation (r_loc - r_a), through problem.apply().
 // If `last_u` is not empty (size n), U_a^k = U + W_aa dr_a, the velocity of a just after its
 // update in sweep k, is compared with last_u[a] (the same in sweep k-1; the initial velocity
 // before the first sweep), last_u[a] is replaced by U_a^k, and the sums of SweepStats are

@@ -8,11 +8,12 @@
 namespace sable {
 
 // Each enumerator is the name a summary prints (kPhaseNames), so that a timing points at its
-// code. DEM uses the first four phases (integrate: the first half kick and the drift; pair
-// pass: the contact forces, and in dry runs each grain's closing as well, its wall contacts,
-// sum and second half kick; closing: the wet runs' closing loop, and the walls' total
-// forces), contact dynamics integrate, neighbors, contact build and NLGS solve; a summary
-// lists the phases that took time. Used by every solver: it sits in core, below them.
+// code. DEM uses the first four, one per stage of DemSolver::step() (integrate: the first
+// half kick and the drift; neighbors: the neighbour and near lists; pair pass: the contact
+// forces and each grain's closing, its wall contacts, sum and second half kick; closing: the
+// walls' total forces), contact dynamics integrate, neighbors, contact build and NLGS solve;
+// a summary lists the phases that took time. Used by every solver: it sits in core, below
+// them.
 enum class Phase : int {
   kIntegrate,
   kNeighbors,

@@ -23,9 +23,10 @@ namespace {
 
 using dem_detail::forget_if_ended;
 
-// How the grain-pair passes sum forces per grain (see pair_forces and the gather, GrainPass::sum):
-// store in the contact's slots only, for the gather (kGather); add to both grains (kScatter); add
-// to the grains not flagged `gathered`, store for the others (kScatterChecked).
+// How the grain-pair passes sum forces per grain (see dry_pair_forces and the gather,
+// GrainPass::sum): store in the contact's slots only, for the gather (kGather); add to both
+// grains (kScatter); add to the grains not flagged kGathered, store for the others
+// (kScatterChecked).
 enum class Sum : std::uint8_t { kGather, kScatter, kScatterChecked };
 
 }  // namespace
@@ -33,111 +34,174 @@ enum class Sum : std::uint8_t { kGather, kScatter, kScatterChecked };
 template <int D>
 void DemSolver<D>::initialize() {
   // The lists carry rolling springs exactly when the law has rolling resistance.
-  w_.neighbors.rolling = w_.model.rolling != RollingModel::kNone;
-  reorder_.build_lists(w_);  // sorting the grains first when due (world/reorder.hpp)
+  world_.neighbors.rolling = with_rolling();
+  reorder_.build_lists(world_);  // sorting the grains first when due (world/reorder.hpp)
   compute_forces();
 }
 
-// One velocity-Verlet step. Forces at t are known on entry (from the previous step or
-// initialize()), so the step is: half kick and drift, contact detection, forces at t + h,
-// half kick. Gravity enters as an acceleration in the kicks. The loops over the grains are
-// in dem/grain_loops.cpp.
+// One velocity-Verlet step. The forces at t are known on entry (from the previous step or
+// initialize()), so a step is: half kick and drift, contact forces at t + h, half kick with
+// them. Gravity enters as an acceleration in the kicks. The stages, in order, each a function
+// timed as its Phase (the name a summary prints):
+//   integrate()          "integrate"  first half kick and drift of the grains; walls drift
+//   update_neighbors()   "neighbors"  neighbour list rebuilt when due; near list remade when
+//                                     stale
+//   pair_pass()          "pair pass"  contact forces at t + h, and each grain's closing: its
+//                                     sum, the second half kick, the check of its state (wet
+//                                     runs: the bridges' liquid settled, then a closing loop)
+//   total_wall_forces()  "closing"    each wall's total force, in list order
+// Determinism: each grain's sum adds its terms in one fixed order (its second-member pairs,
+// its first-member pairs, its walls, each by ascending index) whichever thread adds them,
+// so the bits do not depend on the thread count. No atomics, no per-thread copies of the
+// forces: each thread writes only its own grains and contacts.
 template <int D>
 void DemSolver<D>::step() {
-  const double h = w_.dt;
-  Moved moved;
+  const double h = world_.dt;
+  diag_ = StepDiagnostics{};
+  Displacements moved;
   {
     auto scope = timers_.time(Phase::kIntegrate);
-    moved = kick_drift(0.5 * h, h);
-    for (auto& wall : w_.walls) wall.point += h * wall.velocity;
+    moved = integrate(h);
   }
   {
     auto scope = timers_.time(Phase::kNeighbors);
-    if (w_.neighbors.needs_rebuild_after(moved.outer2, w_.walls)) reorder_.build_lists(w_);
+    update_neighbors(&moved);
   }
-  const bool unsound = forces(&moved, 0.5 * h);  // and the closing half kick
-  for (GrainSplit* split : {&drift_split_, &pair_split_, &finish_split_})
-    split->end_step();  // the threads' times: the next cuts
-  w_.time += h;
-  ++w_.step;
-  if (unsound) check_grain_states(w_);  // names the first unsound grain and throws
-}
-
-// Forces so that the result does not depend on the number of threads:
-//   1. per contact of the near list (the candidates that can touch now, see
-//      dem/near_list.hpp): the force on its first grain, written into the contact's own slot
-//      together with n x F and the overlap (for the torques), and in the dry pass added to
-//      its grains' sums as it goes (pair_forces: one block of grains per thread);
-//   2. per grain, its closing: its wall contacts, then, for the grains the pass did not sum,
-//      the sum of its contacts' forces and torques in the same order (second-member pairs,
-//      first-member pairs, wall pairs, by ascending index), or else its walls' terms added
-//      to the pass's sum; then the closing half kick by h_kick (none when 0) and the check of
-//      its state. The dry pass closes each grain as soon as it has gone past it (and the
-//      grains it left to the gather after it, see pair_forces); wet runs close every grain
-//      in a loop of their own (finish() in dem/grain_loops.cpp).
-// No atomics, no per-thread force copies, and no race: each thread writes only its own items.
-// `moved`: the displacements the step's drift measured (null: measure them here). True when
-// some grain's state is unsound after the kick.
-template <int D>
-bool DemSolver<D>::forces(const Moved* moved, double h_kick) {
-  auto& nl = w_.neighbors;
-  nl.update_incidence(w_.particles.size());
-  if (scratch_build_ != nl.builds || pair_delta_.size() != nl.pairs.size() ||
-      wall_delta_.size() != nl.wall_pairs.size()) {
-    // The lists were rebuilt (or come from a snapshot): the scratch is indexed by list entry,
-    // so it starts again from "apart" (-1 marks entries whose stored force must be cleared
-    // if they are apart, since they may carry a force from before the rebuild).
-    // With headroom (core/grow.hpp): a settling bed's lists grow at every rebuild.
-    const auto zero = Space<D>::zero_rot();
-    assign_ahead(pair_moment_, nl.pairs.size(), zero);
-    assign_ahead(pair_delta_, nl.pairs.size(), -1.0);
-    assign_ahead(wall_moment_, nl.wall_pairs.size(), zero);
-    assign_ahead(wall_delta_, nl.wall_pairs.size(), -1.0);
-    assign_ahead(pair_event_, nl.bridges ? nl.pairs.size() : 0, std::uint8_t{0});
-    assign_ahead(pair_roll_, nl.rolling ? nl.pairs.size() : 0, zero);
-    assign_ahead(wall_roll_, nl.rolling ? nl.wall_pairs.size() : 0, zero);
-    scratch_build_ = nl.builds;
-  }
-  diag_ = StepDiagnostics{};
-  const bool wet = nl.bridges && nl.pairs.bridge.size() == nl.pairs.size();
-  const bool rolling = w_.model.rolling != RollingModel::kNone;
-  if (rolling) prepare_rolling(wet);
-  {
-    auto scope = timers_.time(Phase::kNeighbors);
-    if (moved ? near_.stale_after(moved->near2, w_.particles, nl, wet)
-              : near_.stale(w_.particles, nl, wet)) {
-      // An entry left out is apart: clear it as the force pass would have.
-      near_.remake(w_.particles, nl, w_.dt, wet, [&](std::size_t k) {
-        forget_if_ended(nl.pairs.shear.data(), nl.pairs.force.data(), pair_moment_.data(),
-                        pair_delta_.data(), k, Space<D>::zero_rot());
-        if (rolling) {
-          nl.pairs.roll[k] = Space<D>::zero_rot();
-          pair_roll_[k] = Space<D>::zero_rot();
-        }
-      });
-    }
-    diag_.near_remakes = near_.remakes;
-  }
-  const bool hertz = w_.model.normal == NormalLaws::id<HertzNormal>();
   bool unsound = false;
   {
     auto scope = timers_.time(Phase::kPairPass);
-    if (wet)
-      hertz ? wet_pair_forces<HertzNormal>() : wet_pair_forces<LinearNormal>();
-    else if (rolling)
-      unsound =
-          hertz ? pair_forces<HertzNormal, true>(h_kick) : pair_forces<LinearNormal, true>(h_kick);
-    else
-      unsound = hertz ? pair_forces<HertzNormal, false>(h_kick)
-                      : pair_forces<LinearNormal, false>(h_kick);
+    unsound = pair_pass(0.5 * h);
   }
-  if (wet) settle_liquid();
-  auto scope = timers_.time(Phase::kClosing);
-  if (!wet) {
+  {
+    auto scope = timers_.time(Phase::kClosing);
     total_wall_forces();
-    return unsound;
   }
-  return hertz ? finish<HertzNormal>(h_kick) : finish<LinearNormal>(h_kick);
+  for (GrainSplit* split : {&opening_split_, &pair_split_, &closing_split_})
+    split->end_step();  // the threads' times: the next cuts
+  world_.time += h;
+  ++world_.step;
+  if (unsound) check_grain_states(world_);  // names the first unsound grain and throws
+}
+
+// The stages of step() from the lists on, at the current state and with no kick: the
+// neighbour list as it is (no drift: the near list measures the displacements itself).
+template <int D>
+void DemSolver<D>::compute_forces() {
+  diag_ = StepDiagnostics{};
+  {
+    auto scope = timers_.time(Phase::kNeighbors);
+    update_neighbors(nullptr);
+  }
+  {
+    auto scope = timers_.time(Phase::kPairPass);
+    (void)pair_pass(0.0);
+  }
+  auto scope = timers_.time(Phase::kClosing);
+  total_wall_forces();
+}
+
+// Stage integrate: the grains' first half kick and drift (one loop, which also measures the
+// displacements the lists' tests need), then the walls' drift.
+template <int D>
+typename DemSolver<D>::Displacements DemSolver<D>::integrate(double h) {
+  const Displacements moved = kick_and_drift(0.5 * h, h);
+  for (auto& wall : world_.walls) wall.point += h * wall.velocity;
+  return moved;
+}
+
+// Stage update_neighbors: the neighbour list rebuilt when some grain or wall has moved far
+// enough that a pair it does not hold could touch, the scratch fitted to it, and the near
+// list remade when stale. `moved`: the displacements the opening loop measured (null, from
+// compute_forces(): no rebuild, the near list measures them itself).
+template <int D>
+void DemSolver<D>::update_neighbors(const Displacements* moved) {
+  auto& nl = world_.neighbors;
+  if (moved && nl.needs_rebuild_after(moved->neighbor_max2, world_.walls))
+    reorder_.build_lists(world_);
+  nl.update_incidence(world_.particles.size());
+  fit_scratch_to_lists();
+  update_near_list(moved);
+}
+
+// The per-contact scratch is indexed by list entry: after a rebuild (or a snapshot's lists)
+// it starts again from "apart" (-1 marks entries whose stored force must be cleared if they
+// are apart, since they may carry a force from before the rebuild). With headroom
+// (core/grow.hpp): a settling bed's lists grow at every rebuild.
+template <int D>
+void DemSolver<D>::fit_scratch_to_lists() {
+  const auto& nl = world_.neighbors;
+  if (scratch_build_ == nl.builds && pair_delta_.size() == nl.pairs.size() &&
+      wall_delta_.size() == nl.wall_pairs.size())
+    return;
+  const auto zero = Space<D>::zero_rot();
+  assign_ahead(pair_moment_, nl.pairs.size(), zero);
+  assign_ahead(pair_delta_, nl.pairs.size(), -1.0);
+  assign_ahead(wall_moment_, nl.wall_pairs.size(), zero);
+  assign_ahead(wall_delta_, nl.wall_pairs.size(), -1.0);
+  assign_ahead(pair_event_, nl.bridges ? nl.pairs.size() : 0, std::uint8_t{0});
+  assign_ahead(pair_roll_, nl.rolling ? nl.pairs.size() : 0, zero);
+  assign_ahead(wall_roll_, nl.rolling ? nl.wall_pairs.size() : 0, zero);
+  scratch_build_ = nl.builds;
+}
+
+// The near list remade when it may no longer hold every pair that can touch
+// (dem/near_list.hpp). An entry it leaves out is apart: cleared as the pair pass would clear
+// it.
+template <int D>
+void DemSolver<D>::update_near_list(const Displacements* moved) {
+  auto& nl = world_.neighbors;
+  const bool wet = wet_run(), rolling = with_rolling();
+  if (moved ? near_.stale_after(moved->near_max2, world_.particles, nl, wet)
+            : near_.stale(world_.particles, nl, wet)) {
+    near_.remake(world_.particles, nl, world_.dt, wet, [&](std::size_t k) {
+      forget_if_ended(nl.pairs.shear.data(), nl.pairs.force.data(), pair_moment_.data(),
+                      pair_delta_.data(), k, Space<D>::zero_rot());
+      if (rolling) {
+        nl.pairs.roll[k] = Space<D>::zero_rot();
+        pair_roll_[k] = Space<D>::zero_rot();
+      }
+    });
+  }
+  diag_.near_remakes = near_.remakes;
+}
+
+// Stage pair_pass: per contact of the near list, its force at the current positions, stored
+// in its own slot with n x F and the overlap (for the torques); then each grain's closing:
+// its wall contacts, its sum, the half kick by h_kick (none when 0) and the check of its
+// state. Dry runs sum and close each grain inside the pass (dry_pair_forces); wet runs store
+// every force, settle the bridges' liquid, then close every grain in a loop of their own
+// (closing_loop). True when some grain's state is unsound after the kick.
+template <int D>
+bool DemSolver<D>::pair_pass(double h_kick) {
+  const bool wet = wet_run(), rolling = with_rolling();
+  if (rolling) prepare_rolling(wet);
+  const bool unsound = pair_forces_for_law(h_kick, wet, rolling);
+  if (!wet) return unsound;
+  settle_liquid();
+  return closing_loop_for_law(h_kick);
+}
+
+// The pair forces' instantiation for the contact law (one choice per pass, not per contact).
+// True when some grain's state is unsound after the kick (the dry pass closes its grains).
+template <int D>
+bool DemSolver<D>::pair_forces_for_law(double h_kick, bool wet, bool rolling) {
+  const bool hertz = world_.model.normal == NormalModel::kHertz;
+  if (wet) {
+    hertz ? wet_pair_forces<HertzNormal>() : wet_pair_forces<LinearNormal>();
+    return false;
+  }
+  if (rolling)
+    return hertz ? dry_pair_forces<HertzNormal, true>(h_kick)
+                 : dry_pair_forces<LinearNormal, true>(h_kick);
+  return hertz ? dry_pair_forces<HertzNormal, false>(h_kick)
+               : dry_pair_forces<LinearNormal, false>(h_kick);
+}
+
+// The wet runs' closing loop's instantiation for the contact law (its wall contacts).
+template <int D>
+bool DemSolver<D>::closing_loop_for_law(double h_kick) {
+  const bool hertz = world_.model.normal == NormalModel::kHertz;
+  return hertz ? closing_loop<HertzNormal>(h_kick) : closing_loop<LinearNormal>(h_kick);
 }
 
 // Before a pass with rolling resistance: each grain's 1 / (I + m R^2), once per step rather
@@ -146,7 +210,7 @@ bool DemSolver<D>::forces(const Moved* moved, double h_kick) {
 // parser refuses the pair).
 template <int D>
 void DemSolver<D>::prepare_rolling(bool wet) {
-  const auto& p = w_.particles;
+  const auto& p = world_.particles;
   if (wet) throw InputError("rolling resistance with capillary bridges is not supported yet");
   const auto n = static_cast<std::ptrdiff_t>(p.size());
   roll_inv_ic_.resize(p.size());
@@ -159,31 +223,32 @@ void DemSolver<D>::prepare_rolling(bool wet) {
 // What the grain-pair passes read and write, as raw pointers and plain copies taken once per
 // pass. Reached through `this` and std::vector instead, every store of a force (Eigen's SSE
 // stores may alias anything) makes the compiler fetch each array's address again: 4 % more
-// instructions in the pass (cachegrind; docs/BENCHMARKS.md, "The DEM step's design"). Each
-// thread works on its own copy (firstprivate).
+// instructions in the pass (cachegrind on bench/ab_dense.sh's dense bed). Each thread works
+// on its own copy (firstprivate).
 template <int D>
 struct DemSolver<D>::PairPass {
   using S = Space<D>;
   using Vec = typename S::Vec;
   using Rot = typename S::Rot;
   const Vec *x, *v;
-  const Rot* w;
+  const Rot* omega;  // the grains' spins
   const double *radius, *inv_mass;
   const MaterialIndex* material;
   const std::uint32_t *i, *j;
   Vec *shear, *force;
   Rot* moment;
   double* delta;
-  // The dry pass adds forces and torques to grains as it goes (see pair_forces), except to
-  // the grains flagged `gathered`, which the gather (GrainPass::sum) sums from the contacts' slots.
+  // The dry pass adds forces and torques to grains as it goes (see dry_pair_forces), except
+  // to the grains flagged kGathered, which the gather (GrainPass::sum) sums from the
+  // contacts' slots.
   Vec* grain_force;
   Rot* grain_torque;
-  const std::uint8_t* gathered;
+  const std::uint8_t* flags;  // per grain: kGathered, kInTail
   const std::uint32_t *second_begin, *second_pairs;
   PairTableView materials;
   ContactModel model;
   double dt;
-  // Rolling resistance only (pair_forces<Normal, true>): the springs, each contact's couple on
+  // Rolling resistance only (dry_pair_forces<Normal, true>): the springs, each contact's couple on
   // its first grain (for the gather), and each grain's 1 / (I + m R^2).
   Rot *roll, *couple;
   const double* inv_ic;
@@ -204,14 +269,14 @@ struct DemSolver<D>::PairPass {
   [[gnu::always_inline]] Rot rolling_couple(std::size_t k, std::uint32_t a, std::uint32_t b,
                                             const ContactGeometry<D>& g, const PairParams& pp,
                                             const Vec& f) const {
-    const Rot m = sable::rolling_couple<D, Normal>(g, pp, model, dt, f, Rot(w[a] - w[b]), inv_ic[a],
-                                                   inv_ic[b], roll[k]);
+    const Rot m = sable::rolling_couple<D, Normal>(g, pp, model, dt, f, Rot(omega[a] - omega[b]),
+                                                   inv_ic[a], inv_ic[b], roll[k]);
     couple[k] = m;
     return m;
   }
 
-  // Grains [g0, g1) are this thread's: zero their sums.
-  void own(std::uint32_t g0, std::uint32_t g1) const {
+  // Zero the sums of grains [g0, g1) (this thread's block), before the pass adds to them.
+  void clear_sums(std::uint32_t g0, std::uint32_t g1) const {
     for (std::uint32_t g = g0; g < g1; ++g) {
       grain_force[g] = S::zero();
       grain_torque[g] = S::zero_rot();
@@ -232,9 +297,9 @@ struct DemSolver<D>::PairPass {
     g.delta = rsum - dist;
     // Lever arms from each centre to the middle of the overlap: -(R_i - delta/2) n for i,
     // +(R_j - delta/2) n for j, so the contact points' velocity difference is
-    // v_i - v_j - ((R_i - delta/2) w_i + (R_j - delta/2) w_j) x n: one cross product.
+    // v_i - v_j - ((R_i - delta/2) omega_i + (R_j - delta/2) omega_j) x n: one cross product.
     const double lever_i = radius[a] - 0.5 * g.delta, lever_j = radius[b] - 0.5 * g.delta;
-    g.vrel = v[a] - v[b] - S::spin_velocity(lever_i * w[a] + lever_j * w[b], g.n);
+    g.vrel = v[a] - v[b] - S::spin_velocity(lever_i * omega[a] + lever_j * omega[b], g.n);
     g.r_eff = radius[a] * radius[b] / rsum;
     g.m_eff = 1.0 / (inv_mass[a] + inv_mass[b]);
     const PairParams& pp = materials(material[a], material[b]);
@@ -263,7 +328,7 @@ struct DemSolver<D>::PairPass {
       grain_torque[b] -= lever_j * m;
       if constexpr (Roll) grain_torque[b] -= c;
     } else if constexpr (How == Sum::kScatterChecked) {
-      const std::uint8_t flag_a = gathered[a] & kGathered, flag_b = gathered[b];
+      const std::uint8_t flag_a = flags[a] & kGathered, flag_b = flags[b];
       if (!flag_a) {
         grain_force[a] += f;
         grain_torque[a] -= lever_i * m;
@@ -284,10 +349,10 @@ struct DemSolver<D>::PairPass {
     if (overlap > max_ratio * r_min) max_ratio = overlap / r_min;
   }
 
-  // The dry pass over near-list entries [m0, m1) (see pair_forces). Flattened: left to its
-  // heuristics, GCC keeps some of Eigen's vector operations out of line here once the
+  // The dry pass over near-list entries [m0, m1) (see dry_pair_forces). Flattened: left to
+  // its heuristics, GCC keeps some of Eigen's vector operations out of line here once the
   // translation unit holds a little more code, and the pass then takes 14 % more instructions
-  // (cachegrind; docs/BENCHMARKS.md, "The DEM step's design").
+  // (cachegrind on bench/ab_dense.sh's dense bed).
   template <class Normal, Sum How, bool Roll>
   [[gnu::flatten]] void entries(const std::uint32_t* near, std::uint32_t m0, std::uint32_t m1,
                                 double& max_ratio, std::size_t& touching) const {
@@ -309,7 +374,7 @@ struct DemSolver<D>::PairPass {
   // touching entries of each stretch of the list go into lanes, their forces are computed as
   // one batch in SIMD registers (contact/contact_lanes.hpp), then stored and added to the
   // grains one by one in list order, as entries() does: the same bits, and a quarter less
-  // time in the pass (docs/BENCHMARKS.md, "The DEM step's design").
+  // time in the pass (bench/ab_dense.sh -t 1 measures it).
   template <Sum How>
   [[gnu::flatten]] void entries_in_lanes(const std::uint32_t* near, std::uint32_t m0,
                                          std::uint32_t m1, double& max_ratio,
@@ -345,9 +410,10 @@ struct DemSolver<D>::PairPass {
   // `How` says: in SIMD lanes for the Hertz law in 3D without rolling resistance, else one
   // by one. The same bits either way.
   template <class Normal, Sum How, bool Roll>
-  [[gnu::always_inline]] void grains(const std::uint32_t* near, const std::uint32_t* begin,
-                                     std::uint32_t g0, std::uint32_t g1, double& max_ratio,
-                                     std::size_t& touching) const {
+  [[gnu::always_inline]] void entries_of_grains(const std::uint32_t* near,
+                                                const std::uint32_t* begin, std::uint32_t g0,
+                                                std::uint32_t g1, double& max_ratio,
+                                                std::size_t& touching) const {
     if constexpr (D == 3 && std::is_same_v<Normal, HertzNormal> && !Roll)
       entries_in_lanes<How>(near, begin[g0], begin[g1], max_ratio, touching);
     else
@@ -377,12 +443,12 @@ struct DemSolver<D>::PairPass {
     lanes.dvx[l] = dv.x();
     lanes.dvy[l] = dv.y();
     lanes.dvz[l] = dv.z();
-    lanes.wax[l] = w[a].x();
-    lanes.way[l] = w[a].y();
-    lanes.waz[l] = w[a].z();
-    lanes.wbx[l] = w[b].x();
-    lanes.wby[l] = w[b].y();
-    lanes.wbz[l] = w[b].z();
+    lanes.wax[l] = omega[a].x();
+    lanes.way[l] = omega[a].y();
+    lanes.waz[l] = omega[a].z();
+    lanes.wbx[l] = omega[b].x();
+    lanes.wby[l] = omega[b].y();
+    lanes.wbz[l] = omega[b].z();
     lanes.set_params(l, materials(material[a], material[b]));
     lanes.sx[l] = shear[k].x();
     lanes.sy[l] = shear[k].y();
@@ -391,9 +457,9 @@ struct DemSolver<D>::PairPass {
 };
 
 template <int D>
-typename DemSolver<D>::PairPass DemSolver<D>::pair_pass() {
-  auto& p = w_.particles;
-  auto& pl = w_.neighbors.pairs;
+typename DemSolver<D>::PairPass DemSolver<D>::make_pair_pass() {
+  auto& p = world_.particles;
+  auto& pl = world_.neighbors.pairs;
   return {p.x.data(),
           p.v.data(),
           p.w.data(),
@@ -408,12 +474,12 @@ typename DemSolver<D>::PairPass DemSolver<D>::pair_pass() {
           pair_delta_.data(),
           p.f.data(),
           p.t.data(),
-          gathered_.data(),
+          grain_flags_.data(),
           near_.second_begin.data(),
           near_.second_pairs.data(),
-          w_.materials.pair_view(),
-          w_.model,
-          w_.dt,
+          world_.materials.pair_view(),
+          world_.model,
+          world_.dt,
           pl.roll.data(),
           pair_roll_.data(),
           roll_inv_ic_.data()};
@@ -425,62 +491,62 @@ typename DemSolver<D>::PairPass DemSolver<D>::pair_pass() {
 // order; a grain's terms come in the order the gather sums them (second-member entries,
 // whose first member is smaller, then first-member ones), so the sums are the same bits for
 // any number of threads. Only the grains another block's entries reach (flagged kGathered
-// by update_split(); none on one thread, a few % on two) are left to the gather. Gathering
-// every grain's sum afterwards took 17 % of a one-thread profile (perf; docs/BENCHMARKS.md,
-// "The DEM step's design"). The blocks and flags change only between passes
-// (update_split(): after a near-list remake, or when the threads' speeds move the cut).
+// by update_pair_split(); none on one thread, a few % on two) are left to the gather: a
+// gather of every grain's sum would take 17 % of a one-thread step (perf on bench/ab_dense.sh's
+// dense bed). The blocks and flags change only between passes (update_pair_split(): after a
+// near-list remake, or when the threads' speeds move the cut).
 //
-// The closing (walls, sums, half kick by h_kick, check: close_run()) follows every
+// The closing (walls, sums, half kick by h_kick, check: close_passed_grains()) follows every
 // kCloseChunk grains: an entry (i, j) has i < j, so once the pass is past grain g nothing
-// in it adds to g or reads it again, and g's data are still in the caches. A separate loop
-// over the grains read them all again, and on two threads read lines the other core had
-// written (docs/BENCHMARKS.md, "The DEM step's design").
+// in it adds to g or reads it again: g's sum is final, and its data are still in the caches
+// (a separate loop would read every grain again, and on two threads lines the other core has
+// written: bench/ab_dense.sh -s runs 4-16 % faster on two threads with the closing here).
 //
 // The last kPairTail of each block's work (its tail) is shared (dem/grain_split.hpp): the
 // block's thread takes it from the front, in chunks, adding and closing as before; a thread
 // done with its own block takes chunks from the far end, whose entries only store their
 // forces (Sum::kGather; the pass writes n x F for every entry whose second member lies in a
 // tail, kInTail, since either end may take it). After the pass, the threads meeting once,
-// the grains left to the gather are closed: the flagged ones, and in each block those from
-// where its tail's two ends met. Their wall contacts were made by whoever did their rows.
-// True when some grain's state is unsound after the kick.
+// the grains left to the gather are closed (close_gathered_chunks()): the flagged ones, and in
+// each block those from where its tail's two ends met. Their wall contacts were made by
+// whoever did their rows. True when some grain's state is unsound after the kick.
 template <int D>
 template <class Normal, bool Roll>
-bool DemSolver<D>::pair_forces(double h_kick) {
-  // The pass clears every grain's sums (own()) as well as visiting the entries: a bed with
-  // few contacts is still worth the threads, and clearing them all on one thread would leave
-  // the other threads' grains in its cache for the next kick.
-  update_split();
+bool DemSolver<D>::dry_pair_forces(double h_kick) {
+  // The pass clears its grains' sums (clear_sums()) as well as visiting the entries: a bed
+  // with few contacts is still worth the threads, and clearing them all on one thread would
+  // leave the other threads' grains in its cache for the next kick.
+  update_pair_split();
   GrainSplit& split = pair_split_;
   const int blocks = split.blocks();
   split.open_chunks();
-  PairPass pass = pair_pass();
-  GrainPass close = grain_pass(h_kick);
+  PairPass pass = make_pair_pass();
+  GrainPass closing = make_grain_pass(h_kick);
   const std::uint32_t* const near = near_.index.data();
   const std::uint32_t* const begin = near_.first_begin.data();
   const std::uint32_t* const block = split.bounds();
-  std::atomic<std::uint32_t> next_late{0};  // close_late()'s chunks
+  std::atomic<std::uint32_t> next_gathered{0};  // close_gathered_chunks()'s chunks
   double max_ratio = 0.0;
   std::size_t touching = 0;
   int bad = 0;
-#pragma omp parallel num_threads(blocks) firstprivate(pass, close) reduction(max : max_ratio) \
+#pragma omp parallel num_threads(blocks) firstprivate(pass, closing) reduction(max : max_ratio) \
     reduction(+ : touching) reduction(| : bad) if (blocks > 1)
   {
     // A block per thread; with fewer threads than blocks, some take two: the same bits.
     const int team = omp_get_num_threads(), thread = omp_get_thread_num();
-    // Grains [r0, r1) of this thread's own: their entries, summed as the pass goes, then
-    // their closing, every kCloseChunk grains (their data still in the caches).
-    auto own_rows = [&](std::uint32_t r0, std::uint32_t r1) {
+    // Grains [r0, r1) of this thread's block: their entries, added to the sums as the pass
+    // goes, then their closing, every kCloseChunk grains (their data still in the caches).
+    auto add_and_close = [&](std::uint32_t r0, std::uint32_t r1) {
       while (r0 < r1) {
         const std::uint32_t r = r1 - r0 > kCloseChunk ? r0 + kCloseChunk : r1;
         // One block: no grain is gathered, and the flags need not be read.
         if (blocks == 1)
-          pass.template grains<Normal, Sum::kScatter, Roll>(near, begin, r0, r, max_ratio,
-                                                            touching);
+          pass.template entries_of_grains<Normal, Sum::kScatter, Roll>(near, begin, r0, r,
+                                                                       max_ratio, touching);
         else
-          pass.template grains<Normal, Sum::kScatterChecked, Roll>(near, begin, r0, r, max_ratio,
-                                                                   touching);
-        bad |= close_run<Normal>(close, r0, r, h_kick, max_ratio, touching);
+          pass.template entries_of_grains<Normal, Sum::kScatterChecked, Roll>(near, begin, r0, r,
+                                                                              max_ratio, touching);
+        bad |= close_passed_grains<Normal>(closing, r0, r, h_kick, max_ratio, touching);
         r0 = r;
       }
     };
@@ -488,11 +554,11 @@ bool DemSolver<D>::pair_forces(double h_kick) {
     for (int t = thread; t < blocks; t += team) {
       const double start = omp_get_wtime();
       const std::uint32_t g0 = block[t], tail = split.tail(t);
-      pass.own(g0, block[t + 1]);
-      own_rows(g0, tail);
+      pass.clear_sums(g0, block[t + 1]);
+      add_and_close(g0, tail);
       double work = double(begin[tail] - begin[g0]) + double(tail - g0);  // the cut's units
       while (split.take_chunk(t, c0, c1)) {
-        own_rows(c0, c1);
+        add_and_close(c0, c1);
         work += double(begin[c1] - begin[c0]) + double(c1 - c0);
       }
       if (team == blocks) split.add_busy(t, omp_get_wtime() - start, work);
@@ -501,14 +567,15 @@ bool DemSolver<D>::pair_forces(double h_kick) {
     // forces, and their grains are closed after the pass.
     for (int k = 1; k < blocks; ++k) {
       const int t = (thread + k) % blocks;
-      while (split.take_back(t, c0, c1)) {
-        pass.template grains<Normal, Sum::kGather, Roll>(near, begin, c0, c1, max_ratio, touching);
-        wall_run<Normal>(c0, c1, max_ratio, touching);
+      while (split.take_chunk_from_back(t, c0, c1)) {
+        pass.template entries_of_grains<Normal, Sum::kGather, Roll>(near, begin, c0, c1, max_ratio,
+                                                                    touching);
+        wall_contacts<Normal>(c0, c1, max_ratio, touching);
       }
     }
     if (blocks > 1) {
 #pragma omp barrier
-      bad |= close_late(close, next_late, h_kick);
+      bad |= close_gathered_chunks(closing, next_gathered, h_kick);
     }
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
@@ -519,41 +586,42 @@ bool DemSolver<D>::pair_forces(double h_kick) {
 // The pair pass's blocks of grains (dem/grain_split.hpp), cut again after a near-list remake,
 // when the grain or the thread count changed, or when the threads' measured speeds ask for
 // it. Each block gets its share of the work: its near-list entries, plus one per grain
-// (own() clears each grain's sums). Cut by entries alone, a bed whose contacts sit in a few
-// grains (a fall, where only the landed layers touch) gave one thread nearly every grain: two
-// threads took longer than one (docs/BENCHMARKS.md, "The DEM step's design"). Then the flags: a
-// grain is kGathered when it is the second member of an entry whose first member is in an
-// earlier block (its first such entry has the smallest first member): that block's thread
-// would add to it, in a race and out of order; kInTail for the grains of a block's shared
-// tail, which another thread may take (pair_forces). The kGathered grains are also listed,
-// for their closing after the pass. (Grains the near list does not hold are cut by count,
-// and the cut is made again once it holds them; the pass always finds them held.)
+// (clear_sums() zeroes each grain's sums). Cut by entries alone, a bed whose contacts sit in
+// a few grains (a fall, where only the landed layers touch) would give one thread nearly
+// every grain (bench/peers/compare.sh --stiff, phase (a): two threads 1.03-1.08x as fast as
+// one cut by entries, 1.53-1.56x cut by work). Then the flags: a grain is
+// kGathered when it is the second member of an entry whose first member is in an earlier
+// block (its first such entry has the smallest first member): that block's thread would add
+// to it, in a race and out of order; kInTail for the grains of a block's shared tail, which
+// another thread may take (dry_pair_forces). The kGathered grains are also listed, for their
+// closing after the pass. (Grains the near list does not hold are cut by count, and the cut
+// is made again once it holds them; the pass always finds them held.)
 template <int D>
-void DemSolver<D>::update_split() {
-  const std::size_t n = w_.particles.size();
+void DemSolver<D>::update_pair_split() {
+  const std::size_t n = world_.particles.size();
   const std::size_t items = near_.index.size() + n;
   const int blocks = items >= kMinParallelItems ? omp_get_max_threads() : 1;
   if (split_remake_ == near_.remakes && pair_split_.fits(n, blocks)) return;
   const auto& begin = near_.first_begin;  // n + 1 offsets when the list holds every grain
   pair_split_.cut(n, blocks, begin);
-  gathered_.assign(n, 0);
+  grain_flags_.assign(n, 0);
   gathered_list_.clear();
   if (begin.size() != n + 1) {
     split_remake_ = ~std::uint64_t{0};
     return;
   }
   const auto& sb = near_.second_begin;
-  const auto& first = w_.neighbors.pairs.i;
+  const auto& first = world_.neighbors.pairs.i;
   const std::uint32_t* const bound = pair_split_.bounds();
   for (int t = 0; t < blocks; ++t) {
     const std::uint32_t tail = pair_split_.tail(t);
     for (std::uint32_t g = bound[t]; g < bound[t + 1]; ++g)
-      gathered_[g] =
+      grain_flags_[g] =
           (sb[g] < sb[g + 1] && first[near_.second_pairs[sb[g]]] < bound[t] ? kGathered : 0) |
           (g >= tail ? kInTail : 0);
   }
   for (std::uint32_t g = 0; g < n; ++g)
-    if (gathered_[g] & kGathered) gathered_list_.push_back(g);
+    if (grain_flags_[g] & kGathered) gathered_list_.push_back(g);
   split_remake_ = near_.remakes;
 }
 
@@ -562,15 +630,15 @@ void DemSolver<D>::update_split() {
 // loop's is not: wall contacts, gathered grains; one cut balancing the sum of the loops would
 // leave each loop's threads waiting for one another in turn).
 template <int D>
-GrainSplit& DemSolver<D>::loop_split(GrainSplit& split) {
-  const std::size_t n = w_.particles.size();
+GrainSplit& DemSolver<D>::grain_loop_split(GrainSplit& split) {
+  const std::size_t n = world_.particles.size();
   const bool team = static_cast<std::ptrdiff_t>(n) >= kMinParallelItems;
   const int blocks = team ? omp_get_max_threads() : 1;
   if (!split.fits(n, blocks)) split.cut(n, blocks, {});
   return split;
 }
 
-// The grain-pair pass with capillary bridges. As pair_forces, plus: a bridged pair that has
+// The grain-pair pass with capillary bridges. As dry_pair_forces, plus: a bridged pair that has
 // separated feels the bridge's attraction until its gap exceeds the rupture distance; a
 // touching pair gets the contact attraction -kappa R, and a bridge if it had none (formation
 // is only recorded here; the liquid moves in settle_liquid, in list order, so the result does
@@ -579,12 +647,12 @@ template <int D>
 template <class Normal>
 void DemSolver<D>::wet_pair_forces() {
   using S = Space<D>;
-  const auto& p = w_.particles;
-  auto& pl = w_.neighbors.pairs;
-  const CapillaryParams& cap = w_.model.capillary;
+  const auto& p = world_.particles;
+  auto& pl = world_.neighbors.pairs;
+  const CapillaryParams& cap = world_.model.capillary;
   const double kappa = Capillary::kappa(cap);
-  const bool forming = w_.liquid.wet();
-  PairPass pass = pair_pass();
+  const bool forming = world_.liquid.wet();
+  PairPass pass = make_pair_pass();
   const std::uint32_t* const near = near_.index.data();  // every entry: a wet run keeps all
   const auto n_near = static_cast<std::ptrdiff_t>(near_.index.size());
   double max_ratio = 0.0;
@@ -635,10 +703,11 @@ void DemSolver<D>::wet_pair_forces() {
 // raises the skin and asks for a rebuild, so that no bridged pair can leave the list.
 template <int D>
 void DemSolver<D>::settle_liquid() {
-  auto& nl = w_.neighbors;
-  auto& liquid = w_.liquid;
-  const auto policy = w_.model.capillary.ruptured;
-  if (liquid.film.size() != w_.particles.size()) liquid.film.resize(w_.particles.size(), 0.0);
+  auto& nl = world_.neighbors;
+  auto& liquid = world_.liquid;
+  const auto policy = world_.model.capillary.ruptured;
+  if (liquid.film.size() != world_.particles.size())
+    liquid.film.resize(world_.particles.size(), 0.0);
   for (const DroppedBridge& b : nl.dropped_bridges)
     release_bridge(liquid, policy, b.i, b.j, b.volume);
   nl.dropped_bridges.clear();
@@ -651,7 +720,7 @@ void DemSolver<D>::settle_liquid() {
       pl.bridge[k] = PairList<D>::kNoBridge;
     } else {
       pl.bridge[k] = take_bridge_liquid(liquid, pl.i[k], pl.j[k]);
-      const double reach = Capillary::rupture_distance(w_.model.capillary, pl.bridge[k]);
+      const double reach = Capillary::rupture_distance(world_.model.capillary, pl.bridge[k]);
       if (reach > nl.skin) {
         nl.skin = 1.05 * reach;
         nl.x_ref.clear();  // forces a rebuild before the next force pass

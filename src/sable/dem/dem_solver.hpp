@@ -34,21 +34,25 @@ inline void forget_if_ended(Vec* shear, Vec* force, Rot* moment, double* delta, 
 template <int D>
 class DemSolver final : public Solver {
  public:
-  explicit DemSolver(World<D>& world) : w_(world) { pair_split_.share_tail(kPairTail, kPairChunk); }
+  explicit DemSolver(World<D>& world) : world_(world) {
+    pair_split_.share_tail(kPairTail, kPairChunk);
+  }
   std::string_view name() const override { return "dem"; }
   void initialize() override;
   void step() override;
   const StepDiagnostics& diagnostics() const override { return diag_; }
   const PhaseTimers& timers() const override { return timers_; }
 
-  // Forces and torques at the current positions and velocities (also updates contact history).
-  void compute_forces() { (void)forces(nullptr, 0.0); }
+  // Forces and torques at the current positions and velocities, no kick (also updates the
+  // contact history and the near list): the lists and pair pass stages of step(), with the
+  // closing half kick by 0.
+  void compute_forces();
 
   // Fixed shares of the work per thread (one per thread, normalised) instead of shares that
   // follow the threads' measured speeds (dem/grain_split.hpp). For tests: the results are the
   // same bits for any shares.
   void fix_thread_shares(const std::vector<double>& shares) {
-    for (GrainSplit* split : {&drift_split_, &pair_split_, &finish_split_})
+    for (GrainSplit* split : {&opening_split_, &pair_split_, &closing_split_})
       split->fix_shares(shares);
   }
   // The blocks of grains of the step's parallel loops, in step order: the opening loop's, the
@@ -56,57 +60,80 @@ class DemSolver final : public Solver {
   // they have been cut (tests, diagnostics).
   std::vector<const GrainSplit*> grain_splits() const {
     std::vector<const GrainSplit*> cut;
-    for (const GrainSplit* split : {&drift_split_, &pair_split_, &finish_split_})
+    for (const GrainSplit* split : {&opening_split_, &pair_split_, &closing_split_})
       if (split->blocks() > 0) cut.push_back(split);
     return cut;
   }
 
  private:
   // The pair pass shares the last kPairTail of each block's work in chunks of kPairChunk
-  // grains (a few us each) (see pair_forces): enough to absorb the few-% step-to-step
-  // wander of a thread's speed (docs/BENCHMARKS.md, "The DEM step's design").
+  // grains, a few us each (see dry_pair_forces): enough to absorb the few-% step-to-step
+  // wander of a thread's speed (bench/ab_dense.sh -t 2 measures it: 1.065x in the median).
   static constexpr double kPairTail = 0.05;
   static constexpr std::uint32_t kPairChunk = 64;
   // The dry pass closes its own grains every kCloseChunk grains (their data still in the
-  // caches: see pair_forces), and hands out the gathered grains' closing after it in chunks
-  // of kLateChunk.
-  static constexpr std::uint32_t kCloseChunk = 256, kLateChunk = 64;
+  // caches: see dry_pair_forces), and hands out the gathered grains' closing after it in
+  // chunks of kGatheredChunk.
+  static constexpr std::uint32_t kCloseChunk = 256, kGatheredChunk = 64;
 
   // The grains' largest squared displacements since the neighbour list's and the near list's
-  // reference positions, measured in the drift loop (outer2 < 0: the neighbour list has no
-  // reference for every grain; near2 is read only when the near list has one).
-  struct Moved {
-    double outer2 = -1.0, near2 = 0.0;
+  // reference positions, measured by the opening loop (neighbor_max2 < 0: the neighbour list
+  // has no reference for every grain; near_max2 is read only when the near list has one).
+  struct Displacements {
+    double neighbor_max2 = -1.0, near_max2 = 0.0;
   };
-  Moved kick_drift(double h_kick, double h_drift);
-  bool forces(const Moved* moved, double h_kick);
+
+  // The step's stages, in order (step() in dem_solver.cpp), each timed as its Phase.
+  Displacements integrate(double h);                  // Phase::kIntegrate
+  void update_neighbors(const Displacements* moved);  // Phase::kNeighbors
+  bool pair_pass(double h_kick);                      // Phase::kPairPass
+  void total_wall_forces();                           // Phase::kClosing
+
+  // integrate: the opening grain loop (dem/grain_loops.cpp).
+  Displacements kick_and_drift(double h_kick, double h_drift);
+  // update_neighbors: the per-entry scratch fitted to the lists, the near list remade.
+  void fit_scratch_to_lists();
+  void update_near_list(const Displacements* moved);
+  // pair_pass: each grain's rolling factor, then the contact law picked for the pair forces
+  // (dry: summed and closed per grain as the pass goes; wet: stored per contact) and, after
+  // the bridges' liquid is settled, for the wet runs' closing loop (dem/grain_loops.cpp).
+  void prepare_rolling(bool wet);
+  bool pair_forces_for_law(double h_kick, bool wet, bool rolling);
+  bool closing_loop_for_law(double h_kick);
+  template <class Normal, bool Roll>
+  bool dry_pair_forces(double h_kick);
   template <class Normal>
-  bool finish(double h_kick);
+  void wet_pair_forces();
+  void settle_liquid();
+  template <class Normal>
+  bool closing_loop(double h_kick);
+  // A grain's closing (dem/grain_loops.cpp): its wall contacts, its sum, the second half
+  // kick, the check of its state.
   template <class Normal>
   void wall_contact(std::size_t k, double& max_ratio, std::size_t& touching);
   template <class Normal>
-  void wall_run(std::uint32_t g0, std::uint32_t g1, double& max_ratio, std::size_t& touching);
+  void wall_contacts(std::uint32_t g0, std::uint32_t g1, double& max_ratio, std::size_t& touching);
   struct GrainPass;
-  GrainPass grain_pass(double h_kick);
+  GrainPass make_grain_pass(double h_kick);
   template <class Normal>
-  int close_run(const GrainPass& pass, std::uint32_t g0, std::uint32_t g1, double h,
-                double& max_ratio, std::size_t& touching);
-  int close_gathered(const GrainPass& pass, const std::uint32_t* g, std::uint32_t g0, std::size_t n,
-                     double h);
-  int close_late(const GrainPass& pass, std::atomic<std::uint32_t>& next, double h);
-  void total_wall_forces();
-  template <class Normal, bool Roll>
-  bool pair_forces(double h_kick);
-  void update_split();
-  GrainSplit& loop_split(GrainSplit& split);
-  template <class Normal>
-  void wet_pair_forces();
+  int close_passed_grains(const GrainPass& pass, std::uint32_t g0, std::uint32_t g1, double h,
+                          double& max_ratio, std::size_t& touching);
+  int close_gathered_grains(const GrainPass& pass, const std::uint32_t* g, std::uint32_t g0,
+                            std::size_t n, double h);
+  int close_gathered_chunks(const GrainPass& pass, std::atomic<std::uint32_t>& next, double h);
+  // The loops' blocks of grains.
+  void update_pair_split();
+  GrainSplit& grain_loop_split(GrainSplit& split);
   struct PairPass;
-  PairPass pair_pass();
-  void prepare_rolling(bool wet);
-  void settle_liquid();
+  PairPass make_pair_pass();
+  // Capillary bridges on every pair entry; a contact law with rolling resistance.
+  bool wet_run() const {
+    return world_.neighbors.bridges &&
+           world_.neighbors.pairs.bridge.size() == world_.neighbors.pairs.size();
+  }
+  bool with_rolling() const { return world_.model.rolling != RollingModel::kNone; }
 
-  World<D>& w_;
+  World<D>& world_;
   StepDiagnostics diag_;
   PhaseTimers timers_;
   // Per-contact scratch of the force pass (n x F and overlap), read by the gather (GrainPass::sum,
@@ -121,20 +148,20 @@ class DemSolver final : public Solver {
   std::vector<double> roll_inv_ic_;
   // The blocks of grains of the step's loops, one per thread: each parallel loop has its own,
   // so that its threads finish together (dem/grain_split.hpp). The pair pass's, and the grains
-  // it leaves to the gather, are made again after each near-list remake (update_split()).
-  GrainSplit drift_split_, pair_split_, finish_split_;
+  // it leaves to the gather, are made again after each near-list remake (update_pair_split()).
+  GrainSplit opening_split_, pair_split_, closing_split_;
   // Per grain, the pair pass's flags: kGathered, its sum is left to the gather (another
   // block's entries reach it); kInTail, it lies in its block's shared tail, where the
-  // other threads may take it (see pair_forces).
+  // other threads may take it (see dry_pair_forces).
   static constexpr std::uint8_t kGathered = 1, kInTail = 2;
-  std::vector<std::uint8_t> gathered_;
-  std::vector<std::uint32_t> gathered_list_;  // the grains flagged in gathered_, ascending
-  std::uint64_t split_remake_ = ~std::uint64_t{0};
+  std::vector<std::uint8_t> grain_flags_;
+  std::vector<std::uint32_t> gathered_list_;        // the grains flagged kGathered, ascending
+  std::uint64_t split_remake_ = ~std::uint64_t{0};  // the near-list remake pair_split_ fits
   // Capillary bridges: per pair, a bridge event of this step (kBridgeFormed / kBridgeBroken),
   // applied in list order after the force pass; events_ counts them (0: nothing to scan).
   std::vector<std::uint8_t> pair_event_;
   std::size_t events_ = 0;
-  std::uint64_t scratch_build_ = ~std::uint64_t{0};
+  std::uint64_t scratch_build_ = ~std::uint64_t{0};  // the neighbour build the scratch fits
   NearList<D> near_;         // the pair entries the force pass visits (dem/near_list.hpp)
   GrainReorder<D> reorder_;  // the grains in cell order at some builds (world/reorder.hpp)
 };

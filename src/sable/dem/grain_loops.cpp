@@ -1,16 +1,16 @@
 // The DEM step's work per grain (dem_solver.cpp holds the step itself and the pair passes):
-//   - the opening loop: the first half kick and the drift, measuring on the way how far the
-//     grains have moved since the two lists' reference positions;
+//   - the opening loop, kick_and_drift() (stage integrate): the first half kick and the
+//     drift, measuring on the way how far the grains have moved since the two lists'
+//     reference positions;
 //   - the closing: per grain, its wall contacts, the sum of its forces and torques, the
 //     second half kick and the check of its state. The dry pair pass closes its grains as it
-//     goes (close_run(), close_gathered(): see DemSolver::pair_forces); wet runs in a loop of
-//     their own, finish() (each chunk of grains in three short runs).
-// Each used to be several passes over every grain (kick and drift, two displacement scans;
-// wall contacts, gather, kick, state scan), each reading the grains' arrays again and each
-// a meeting of the thread team. A grain's operations are those of the separate passes, in
-// the same order, and no grain's depend on another's: the same bits, for any number of
-// threads. And so either loop shares its grains among the threads in chunks
-// (dem/grain_split.hpp): whichever thread does a grain, the bits are the same.
+//     goes (close_passed_grains(), close_gathered_chunks(): see DemSolver::dry_pair_forces);
+//     wet runs in a loop of their own, closing_loop() (each chunk of grains in three short
+//     runs).
+// Each loop does all of a grain's operations in one visit, reading the grains' arrays once
+// and meeting the thread team once. No grain's operations read what another's write, so
+// each loop shares its grains among the threads in chunks (dem/grain_split.hpp): whichever
+// thread does a grain, and however many threads run, the bits are the same.
 #include <omp.h>
 
 #include <algorithm>
@@ -52,10 +52,10 @@ template <class Body>
 }  // namespace
 
 template <int D>
-typename DemSolver<D>::GrainPass DemSolver<D>::grain_pass(double h_kick) {
-  auto& p = w_.particles;
-  const auto& nl = w_.neighbors;
-  const double keep = w_.viscous_rate > 0.0 ? 1.0 / (1.0 + w_.viscous_rate * h_kick) : 1.0;
+typename DemSolver<D>::GrainPass DemSolver<D>::make_grain_pass(double h_kick) {
+  auto& p = world_.particles;
+  const auto& nl = world_.neighbors;
+  const double keep = world_.viscous_rate > 0.0 ? 1.0 / (1.0 + world_.viscous_rate * h_kick) : 1.0;
   return {p.x.data(),
           p.v.data(),
           p.q.data(),
@@ -65,9 +65,9 @@ typename DemSolver<D>::GrainPass DemSolver<D>::grain_pass(double h_kick) {
           p.inv_mass.data(),
           p.inv_inertia.data(),
           p.radius.data(),
-          w_.gravity,
+          world_.gravity,
           keep,
-          w_.max_speed,
+          world_.max_speed,
           near_.index.data(),
           near_.first_begin.data(),
           near_.second_begin.data(),
@@ -81,33 +81,33 @@ typename DemSolver<D>::GrainPass DemSolver<D>::grain_pass(double h_kick) {
           wall_roll_.data(),
           pair_delta_.data(),
           wall_delta_.data(),
-          gathered_.data(),
-          w_.model.rolling != RollingModel::kNone};
+          grain_flags_.data(),
+          with_rolling()};
 }
 
-// The first phase of every step: a half kick by h_kick, a drift by h_drift, and the largest
-// squared displacements since the lists' reference positions (which the lists' "may an
-// unseen pair touch now?" tests need), in one loop: each grain's position and velocity are
-// read once instead of three times.
+// The opening loop of every step (stage integrate): a half kick by h_kick, a drift by
+// h_drift, and the largest squared displacements since the lists' reference positions (which
+// the lists' "may an unseen pair touch now?" tests need), in one loop: each grain's position
+// and velocity are read once instead of three times.
 template <int D>
-typename DemSolver<D>::Moved DemSolver<D>::kick_drift(double h_kick, double h_drift) {
+typename DemSolver<D>::Displacements DemSolver<D>::kick_and_drift(double h_kick, double h_drift) {
   using S = Space<D>;
-  GrainPass pass = grain_pass(h_kick);
-  const auto& outer_ref = w_.neighbors.x_ref;
+  GrainPass pass = make_grain_pass(h_kick);
+  const auto& outer_ref = world_.neighbors.x_ref;
   const auto& near_ref = near_.reference();
   const typename S::Vec* const outer =
-      outer_ref.size() == w_.particles.size() ? outer_ref.data() : nullptr;
+      outer_ref.size() == world_.particles.size() ? outer_ref.data() : nullptr;
   const typename S::Vec* const inner =
-      near_ref.size() == w_.particles.size() ? near_ref.data() : nullptr;
-  const bool turning = w_.track_orientation;
-  GrainSplit& split = loop_split(drift_split_);
+      near_ref.size() == world_.particles.size() ? near_ref.data() : nullptr;
+  const bool turning = world_.track_orientation;
+  GrainSplit& split = grain_loop_split(opening_split_);
   const int blocks = split.blocks();
   split.open_chunks();
-  double outer2 = 0.0, near2 = 0.0;  // maxima: exact whatever the order
+  double neighbor_max2 = 0.0, near_max2 = 0.0;  // maxima: exact whatever the order
   // (clang-format breaks the reduction clause apart)
   // clang-format off
-#pragma omp parallel num_threads(blocks) firstprivate(pass) reduction(max : outer2, near2) \
-    if (blocks > 1)
+#pragma omp parallel num_threads(blocks) firstprivate(pass) \
+    reduction(max : neighbor_max2, near_max2) if (blocks > 1)
   // clang-format on
   {
     share_grains(split, [&](std::size_t g0, std::size_t g1) {
@@ -118,28 +118,27 @@ typename DemSolver<D>::Moved DemSolver<D>::kick_drift(double h_kick, double h_dr
       for (std::size_t k = g0; k < g1; ++k) {
         if (c.kick(k, h_kick)) {
           c.x[k] += h_drift * c.v[k];
-          if (turning) c.q[k] = S::rotate(c.q[k], c.w[k], h_drift);
+          if (turning) c.q[k] = S::rotate(c.q[k], c.omega[k], h_drift);
         }
         if (outer) o2 = std::max(o2, (c.x[k] - outer[k]).squaredNorm());
         if (inner) n2 = std::max(n2, (c.x[k] - inner[k]).squaredNorm());
       }
-      outer2 = std::max(outer2, o2);
-      near2 = std::max(near2, n2);
+      neighbor_max2 = std::max(neighbor_max2, o2);
+      near_max2 = std::max(near_max2, n2);
     });
   }
-  return {outer ? outer2 : -1.0, near2};
+  return {outer ? neighbor_max2 : -1.0, near_max2};
 }
 
 // The wet runs' closing loop over the grains (the dry pass closes its grains itself): per
 // grain, its wall contacts, its sum from its contacts' slots (see GrainPass::sum), the second
 // half kick by h_kick (none when 0: forces only) and the check of its state; true when some
-// grain's state is unsound (check_grain_states() then names it). Then each wall's total
-// force, in list order.
+// grain's state is unsound (check_grain_states() then names it).
 template <int D>
 template <class Normal>
-bool DemSolver<D>::finish(double h_kick) {
-  GrainPass pass = grain_pass(h_kick);
-  GrainSplit& split = loop_split(finish_split_);
+bool DemSolver<D>::closing_loop(double h_kick) {
+  GrainPass pass = make_grain_pass(h_kick);
+  GrainSplit& split = grain_loop_split(closing_split_);
   const int blocks = split.blocks();
   split.open_chunks();
   double max_ratio = 0.0;
@@ -154,12 +153,12 @@ bool DemSolver<D>::finish(double h_kick) {
       // its wall contacts (its grains' wall pairs are one run of the list), its sums, then
       // its kicks and checks. Each grain's operations keep their order (a wall contact reads
       // only its own grain, whose kick comes after either way): the same bits as one loop
-      // doing all three per grain. But that loop called wall_contact() and carried the
-      // gather's loops, and the compiler kept its pointers on the stack; the three runs take
-      // 7-13 % less time (docs/BENCHMARKS.md, "The DEM step's design").
-      wall_run<Normal>(static_cast<std::uint32_t>(g0), static_cast<std::uint32_t>(g1), max_ratio,
-                       touching);
-      const GrainPass c = pass;  // local to the chunk: in registers (see kick_drift)
+      // doing all three per grain. But such a loop calls wall_contact() and carries the
+      // gather's loops, and the compiler keeps its pointers on the stack: on bench/ab_dense.sh's
+      // bed closed by this loop, the three runs take 7 % (one thread) to 13 % (two) less time.
+      wall_contacts<Normal>(static_cast<std::uint32_t>(g0), static_cast<std::uint32_t>(g1),
+                            max_ratio, touching);
+      const GrainPass c = pass;  // local to the chunk: in registers (see kick_and_drift)
       for (std::size_t i = g0; i < g1; ++i) c.sum(i, true);
       int unsound = 0;
       for (std::size_t i = g0; i < g1; ++i) unsound |= c.close(i, h);
@@ -168,47 +167,46 @@ bool DemSolver<D>::finish(double h_kick) {
   }
   diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, max_ratio);
   diag_.touching += touching;
-  total_wall_forces();
   return bad != 0;
 }
 
 // Grains [g0, g1)'s wall contacts (their wall pairs are one run of the list).
 template <int D>
 template <class Normal>
-void DemSolver<D>::wall_run(std::uint32_t g0, std::uint32_t g1, double& max_ratio,
-                            std::size_t& touching) {
-  const std::uint32_t* const wb = w_.neighbors.wall_begin.data();
+void DemSolver<D>::wall_contacts(std::uint32_t g0, std::uint32_t g1, double& max_ratio,
+                                 std::size_t& touching) {
+  const std::uint32_t* const wb = world_.neighbors.wall_begin.data();
   for (std::uint32_t k = wb[g0]; k < wb[g1]; ++k) wall_contact<Normal>(k, max_ratio, touching);
 }
 
-// The dry pair pass's closing of grains [g0, g1), once it has gone past their entries (see
-// pair_forces): their wall contacts, then, for each grain whose sum the pass made (not
-// kGathered), its walls' terms, its half kick by h (none when 0) and its check. 1 when one of
-// them is unsound.
+// The dry pair pass's closing of grains [g0, g1) once it is past their entries (see
+// dry_pair_forces: an entry (i, j) has i < j, so their sums are final): their wall contacts,
+// then, for each grain whose sum the pass made (not kGathered), its walls' terms, its half
+// kick by h (none when 0) and its check. 1 when one of them is unsound.
 template <int D>
 template <class Normal>
-int DemSolver<D>::close_run(const GrainPass& pass, std::uint32_t g0, std::uint32_t g1, double h,
-                            double& max_ratio, std::size_t& touching) {
-  wall_run<Normal>(g0, g1, max_ratio, touching);
-  const GrainPass c = pass;  // local: in registers (see kick_drift)
+int DemSolver<D>::close_passed_grains(const GrainPass& pass, std::uint32_t g0, std::uint32_t g1,
+                                      double h, double& max_ratio, std::size_t& touching) {
+  wall_contacts<Normal>(g0, g1, max_ratio, touching);
+  const GrainPass c = pass;  // local: in registers (see kick_and_drift)
   for (std::size_t i = g0; i < g1; ++i)
-    if (!(c.gathered[i] & kGathered)) c.sum(i, false);
+    if (!(c.flags[i] & kGathered)) c.sum(i, false);
   int unsound = 0;
   for (std::size_t i = g0; i < g1; ++i)
-    if (!(c.gathered[i] & kGathered)) unsound |= c.close(i, h);
+    if (!(c.flags[i] & kGathered)) unsound |= c.close(i, h);
   return unsound;
 }
 
-// The closing of grains the dry pass left to the gather, after it (see pair_forces): the sum
-// from their contacts' slots, the half kick by h and the check; grains g[0..n) when `g`,
+// The closing of grains the dry pass left to the gather, after it (see dry_pair_forces): the
+// sum from their contacts' slots, the half kick by h and the check; grains g[0..n) when `g`,
 // else grains [g0, g0 + n) but those flagged kGathered (the list has them). 1 when one is
 // unsound.
 template <int D>
-int DemSolver<D>::close_gathered(const GrainPass& pass, const std::uint32_t* g, std::uint32_t g0,
-                                 std::size_t n, double h) {
+int DemSolver<D>::close_gathered_grains(const GrainPass& pass, const std::uint32_t* g,
+                                        std::uint32_t g0, std::size_t n, double h) {
   const GrainPass c = pass;
   auto grain = [&](std::size_t s) -> std::size_t { return g ? g[s] : g0 + s; };
-  auto skip = [&](std::size_t i) { return !g && (c.gathered[i] & kGathered); };
+  auto skip = [&](std::size_t i) { return !g && (c.flags[i] & kGathered); };
   for (std::size_t s = 0; s < n; ++s)
     if (!skip(grain(s))) c.sum(grain(s), true);
   int unsound = 0;
@@ -217,37 +215,38 @@ int DemSolver<D>::close_gathered(const GrainPass& pass, const std::uint32_t* g, 
   return unsound;
 }
 
-// After the dry pass, on each thread once they have met (see pair_forces): the closing of the
-// grains it left to the gather, the listed ones (kGathered), then in each block those from
-// where its tail's two ends met, handed out in chunks of kLateChunk by `next`. Relaxed: the
-// meeting has ordered the pass's writes; which thread closes a grain changes nothing but the
-// speed. 1 when one of them is unsound.
+// After the dry pass, on each thread once they have met (see dry_pair_forces): the closing of
+// the grains it left to the gather, the listed ones (kGathered), then in each block those
+// from where its tail's two ends met, handed out in chunks of kGatheredChunk by `next`.
+// Relaxed: the meeting has ordered the pass's writes; which thread closes a grain changes
+// nothing but the speed. 1 when one of them is unsound.
 template <int D>
-int DemSolver<D>::close_late(const GrainPass& pass, std::atomic<std::uint32_t>& next, double h) {
+int DemSolver<D>::close_gathered_chunks(const GrainPass& pass, std::atomic<std::uint32_t>& next,
+                                        double h) {
   const GrainSplit& split = pair_split_;
   const int blocks = split.blocks();
   const std::uint32_t* const block = split.bounds();
   const std::uint32_t* const listed = gathered_list_.data();
   const auto n_list = static_cast<std::uint32_t>(gathered_list_.size());
-  std::uint32_t n_late = n_list;
-  for (int t = 0; t < blocks; ++t) n_late += block[t + 1] - split.taken_back_from(t);
+  std::uint32_t n_gathered = n_list;
+  for (int t = 0; t < blocks; ++t) n_gathered += block[t + 1] - split.first_taken_from_back(t);
   int bad = 0;
   for (;;) {
-    std::uint32_t l0 = next.fetch_add(kLateChunk, std::memory_order_relaxed);
-    if (l0 >= n_late) return bad;
-    const std::uint32_t l1 = std::min(l0 + kLateChunk, n_late);
+    std::uint32_t l0 = next.fetch_add(kGatheredChunk, std::memory_order_relaxed);
+    if (l0 >= n_gathered) return bad;
+    const std::uint32_t l1 = std::min(l0 + kGatheredChunk, n_gathered);
     if (l0 < n_list) {
       const std::uint32_t n = std::min(l1, n_list) - l0;
-      bad |= close_gathered(pass, listed + l0, 0, n, h);
+      bad |= close_gathered_grains(pass, listed + l0, 0, n, h);
       l0 += n;
     }
     // Past the list: the blocks' taken grains, one block's run after the other.
     std::uint32_t base = n_list;
     for (int t = 0; t < blocks && l0 < l1; ++t) {
-      const std::uint32_t from = split.taken_back_from(t), size = block[t + 1] - from;
+      const std::uint32_t from = split.first_taken_from_back(t), size = block[t + 1] - from;
       if (l0 < base + size) {
         const std::uint32_t n = std::min(l1, base + size) - l0;
-        bad |= close_gathered(pass, nullptr, from + (l0 - base), n, h);
+        bad |= close_gathered_grains(pass, nullptr, from + (l0 - base), n, h);
         l0 += n;
       }
       base += size;
@@ -255,12 +254,13 @@ int DemSolver<D>::close_late(const GrainPass& pass, std::atomic<std::uint32_t>& 
   }
 }
 
-// The walls' total forces, in list order.
+// Stage total_wall_forces (printed "closing"): each wall's total force, from its contacts'
+// forces in list order, once every contact's force is final.
 template <int D>
 void DemSolver<D>::total_wall_forces() {
-  const auto& wl = w_.neighbors.wall_pairs;
-  for (auto& wall : w_.walls) wall.force.setZero();
-  for (std::size_t k = 0; k < wl.size(); ++k) w_.walls[wl.wall[k]].force -= wl.force[k];
+  const auto& wl = world_.neighbors.wall_pairs;
+  for (auto& wall : world_.walls) wall.force.setZero();
+  for (std::size_t k = 0; k < wl.size(); ++k) world_.walls[wl.wall[k]].force -= wl.force[k];
 }
 
 // Wall pair k's contact: its force on the grain, n x F and overlap stored in its slots (for
@@ -269,11 +269,11 @@ template <int D>
 template <class Normal>
 void DemSolver<D>::wall_contact(std::size_t k, double& max_ratio, std::size_t& touching) {
   using S = Space<D>;
-  const auto& p = w_.particles;
-  auto& wl = w_.neighbors.wall_pairs;
-  const bool rolling = w_.model.rolling != RollingModel::kNone;
+  const auto& p = world_.particles;
+  auto& wl = world_.neighbors.wall_pairs;
+  const bool rolling = with_rolling();
   const std::uint32_t i = wl.i[k];
-  const Wall<D>& wall = w_.walls[wl.wall[k]];
+  const Wall<D>& wall = world_.walls[wl.wall[k]];
   ContactGeometry<D> g;
   const double dist = wall.distance(p.x[i], g.n);
   g.delta = p.radius[i] - dist;
@@ -290,51 +290,57 @@ void DemSolver<D>::wall_contact(std::size_t k, double& max_ratio, std::size_t& t
   g.vrel = p.v[i] - wall.velocity - S::spin_velocity((p.radius[i] - 0.5 * g.delta) * p.w[i], g.n);
   g.r_eff = p.radius[i];
   g.m_eff = p.mass[i];
-  const PairParams& pp = w_.materials.pair(p.material[i], wall.material);
-  const typename S::Vec f = contact_force<D, Normal>(g, pp, w_.model, w_.dt, wl.shear[k]);
+  const PairParams& pp = world_.materials.pair(p.material[i], wall.material);
+  const typename S::Vec f = contact_force<D, Normal>(g, pp, world_.model, world_.dt, wl.shear[k]);
   wl.force[k] = f;
   wall_moment_[k] = S::moment(g.n, f);
   wall_delta_[k] = g.delta;
   if (rolling)  // the wall does not turn: the relative spin is the grain's
-    wall_roll_[k] = rolling_couple<D, Normal>(g, pp, w_.model, w_.dt, f, p.w[i], roll_inv_ic_[i],
-                                              0.0, wl.roll[k]);
+    wall_roll_[k] = rolling_couple<D, Normal>(g, pp, world_.model, world_.dt, f, p.w[i],
+                                              roll_inv_ic_[i], 0.0, wl.roll[k]);
   max_ratio = std::max(max_ratio, g.delta / p.radius[i]);
   ++touching;
 }
 
-// The pair pass (dem_solver.cpp) calls grain_pass() too: an implicit instantiation here may
-// be inlined away (clang does at -O2), so it is instantiated explicitly.
-template DemSolver<2>::GrainPass DemSolver<2>::grain_pass(double);
-template DemSolver<3>::GrainPass DemSolver<3>::grain_pass(double);
-template DemSolver<2>::Moved DemSolver<2>::kick_drift(double, double);
-template DemSolver<3>::Moved DemSolver<3>::kick_drift(double, double);
-template int DemSolver<2>::close_gathered(const GrainPass&, const std::uint32_t*, std::uint32_t,
-                                          std::size_t, double);
-template int DemSolver<3>::close_gathered(const GrainPass&, const std::uint32_t*, std::uint32_t,
-                                          std::size_t, double);
-template int DemSolver<2>::close_late(const GrainPass&, std::atomic<std::uint32_t>&, double);
-template int DemSolver<3>::close_late(const GrainPass&, std::atomic<std::uint32_t>&, double);
+// The stages in dem_solver.cpp call these: an implicit instantiation here may be inlined
+// away (clang does at -O2), so they are instantiated explicitly.
+template DemSolver<2>::GrainPass DemSolver<2>::make_grain_pass(double);
+template DemSolver<3>::GrainPass DemSolver<3>::make_grain_pass(double);
+template DemSolver<2>::Displacements DemSolver<2>::kick_and_drift(double, double);
+template DemSolver<3>::Displacements DemSolver<3>::kick_and_drift(double, double);
+template int DemSolver<2>::close_gathered_grains(const GrainPass&, const std::uint32_t*,
+                                                 std::uint32_t, std::size_t, double);
+template int DemSolver<3>::close_gathered_grains(const GrainPass&, const std::uint32_t*,
+                                                 std::uint32_t, std::size_t, double);
+template int DemSolver<2>::close_gathered_chunks(const GrainPass&, std::atomic<std::uint32_t>&,
+                                                 double);
+template int DemSolver<3>::close_gathered_chunks(const GrainPass&, std::atomic<std::uint32_t>&,
+                                                 double);
 template void DemSolver<2>::total_wall_forces();
 template void DemSolver<3>::total_wall_forces();
-template bool DemSolver<2>::finish<HertzNormal>(double);
-template bool DemSolver<2>::finish<LinearNormal>(double);
-template bool DemSolver<3>::finish<HertzNormal>(double);
-template bool DemSolver<3>::finish<LinearNormal>(double);
-template int DemSolver<2>::close_run<HertzNormal>(const GrainPass&, std::uint32_t, std::uint32_t,
-                                                  double, double&, std::size_t&);
-template void DemSolver<2>::wall_run<HertzNormal>(std::uint32_t, std::uint32_t, double&,
-                                                  std::size_t&);
-template int DemSolver<2>::close_run<LinearNormal>(const GrainPass&, std::uint32_t, std::uint32_t,
-                                                   double, double&, std::size_t&);
-template void DemSolver<2>::wall_run<LinearNormal>(std::uint32_t, std::uint32_t, double&,
-                                                   std::size_t&);
-template int DemSolver<3>::close_run<HertzNormal>(const GrainPass&, std::uint32_t, std::uint32_t,
-                                                  double, double&, std::size_t&);
-template void DemSolver<3>::wall_run<HertzNormal>(std::uint32_t, std::uint32_t, double&,
-                                                  std::size_t&);
-template int DemSolver<3>::close_run<LinearNormal>(const GrainPass&, std::uint32_t, std::uint32_t,
-                                                   double, double&, std::size_t&);
-template void DemSolver<3>::wall_run<LinearNormal>(std::uint32_t, std::uint32_t, double&,
-                                                   std::size_t&);
+template bool DemSolver<2>::closing_loop<HertzNormal>(double);
+template bool DemSolver<2>::closing_loop<LinearNormal>(double);
+template bool DemSolver<3>::closing_loop<HertzNormal>(double);
+template bool DemSolver<3>::closing_loop<LinearNormal>(double);
+template int DemSolver<2>::close_passed_grains<HertzNormal>(const GrainPass&, std::uint32_t,
+                                                            std::uint32_t, double, double&,
+                                                            std::size_t&);
+template void DemSolver<2>::wall_contacts<HertzNormal>(std::uint32_t, std::uint32_t, double&,
+                                                       std::size_t&);
+template int DemSolver<2>::close_passed_grains<LinearNormal>(const GrainPass&, std::uint32_t,
+                                                             std::uint32_t, double, double&,
+                                                             std::size_t&);
+template void DemSolver<2>::wall_contacts<LinearNormal>(std::uint32_t, std::uint32_t, double&,
+                                                        std::size_t&);
+template int DemSolver<3>::close_passed_grains<HertzNormal>(const GrainPass&, std::uint32_t,
+                                                            std::uint32_t, double, double&,
+                                                            std::size_t&);
+template void DemSolver<3>::wall_contacts<HertzNormal>(std::uint32_t, std::uint32_t, double&,
+                                                       std::size_t&);
+template int DemSolver<3>::close_passed_grains<LinearNormal>(const GrainPass&, std::uint32_t,
+                                                             std::uint32_t, double, double&,
+                                                             std::size_t&);
+template void DemSolver<3>::wall_contacts<LinearNormal>(std::uint32_t, std::uint32_t, double&,
+                                                        std::size_t&);
 
 }  // namespace sable

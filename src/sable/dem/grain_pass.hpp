@@ -12,8 +12,9 @@
 namespace sable {
 
 // What the grain loops read and write, as raw pointers and plain copies taken once per loop
-// (reached through w_, every vector store would make the compiler fetch each array's address
-// again: see PairPass in dem_solver.cpp). Each thread works on its own copy (firstprivate).
+// (reached through world_, every vector store would make the compiler fetch each array's
+// address again: see PairPass in dem_solver.cpp). Each thread works on its own copy
+// (firstprivate).
 template <int D>
 struct DemSolver<D>::GrainPass {
   using S = Space<D>;
@@ -21,7 +22,7 @@ struct DemSolver<D>::GrainPass {
   using Rot = typename S::Rot;
   Vec *x, *v;
   typename S::Orientation* q;
-  Rot* w;
+  Rot* omega;  // the grains' spins
   Vec* f;
   Rot* t;
   const double *inv_mass, *inv_inertia, *radius;
@@ -33,25 +34,26 @@ struct DemSolver<D>::GrainPass {
   const Vec *pair_force, *wall_force;
   const Rot *pair_moment, *wall_moment, *pair_roll, *wall_roll;
   const double *pair_delta, *wall_delta;
-  const std::uint8_t* gathered;  // the pair pass's flags (kGathered: left to the gather)
+  const std::uint8_t* flags;  // the pair pass's (kGathered: the sum is left to the gather)
   bool rolling;
 
-  // v += h a, w += h alpha: a half kick; gravity enters as an acceleration. The background
-  // damping -m nu v, -I nu w is taken implicitly (v_new feels it): stable for any nu h.
+  // v += h a, omega += h alpha: a half kick; gravity enters as an acceleration. The
+  // background damping -m nu v, -I nu omega is taken implicitly (v_new feels it): stable for
+  // any nu h.
   // False for a grain that does not move (infinite mass).
   [[gnu::always_inline]] bool kick(std::size_t k, double h) const {
     if (inv_mass[k] == 0.0) return false;
     v[k] += h * (f[k] * inv_mass[k] + gravity);
-    w[k] += h * inv_inertia[k] * t[k];
+    omega[k] += h * inv_inertia[k] * t[k];
     if (keep != 1.0) {
       v[k] *= keep;
-      w[k] *= keep;
+      omega[k] *= keep;
     }
     return true;
   }
 
   // Grain i's sum: from its contacts' slots when `full` (the wet pass's grains, and those
-  // the dry pass left to the gather: see pair_forces), else its walls' terms added to the
+  // the dry pass left to the gather: see dry_pair_forces), else its walls' terms added to the
   // pair pass's sum. The torque of force F at lever arm -(R - delta/2) n is
   // -(R - delta/2) (n x F) for the first grain; the second grain gets -F at +(R - delta/2) n:
   // the same sign, its own R. A grain's terms are summed in list order: the entries where it
@@ -87,7 +89,7 @@ struct DemSolver<D>::GrainPass {
 
   // What check_grain_states() tests (world/guards.hpp).
   [[gnu::always_inline]] bool sound(std::size_t k) const {
-    return motion_ok<D>(v[k], w[k], max_speed) && position_ok<D>(x[k]);
+    return motion_ok<D>(v[k], omega[k], max_speed) && position_ok<D>(x[k]);
   }
 
   // Grain k's closing once its sum is final: its half kick by h (none when 0: forces only)

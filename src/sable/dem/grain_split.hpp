@@ -5,36 +5,35 @@
 // contacts and gathered grains sit in some blocks only), so one cut balancing their sum
 // would leave the threads waiting for one another in turn.
 //
-// Why measured: the threads of a run do not all run at one speed. On the project's 2-vCPU VM
-// a thread pinned to one vCPU took up to 30 % longer over the same blocks than one pinned to
-// the other, and which vCPU is the slower changes over minutes (docs/BENCHMARKS.md, "Machines
-// and noise"); desktop CPUs with fast and slow cores differ by design, and any other job on the
-// machine slows one thread. With an even cut every step waits for the slowest thread. Each
-// thread's blocks are timed (a clock read at each end of its share of a loop), each step
-// yields the shares that would have equalised those times, and every kEvery steps the shares
-// move halfway to the median of those estimates (one step hit by a hiccup of the host does
-// not move the cut).
+// Why measured: the threads of a run do not all run at one speed. A VM's vCPUs differ (on the
+// project's 2-vCPU VM, by up to 30 % over the same blocks, and which one is the slower changes
+// over minutes: bench/ab_dense.sh -s sees it), desktop CPUs with fast and slow cores differ by
+// design, and any other job on the machine slows one thread. With an even cut every step
+// waits for the slowest thread. Each thread's blocks are timed (a clock read at each end of
+// its share of a loop), each step yields the shares that would have equalised those times,
+// and every kEvery steps the shares move halfway to the median of those estimates (one step
+// hit by a hiccup of the host does not move the cut).
 //
 // Why it cannot change the results: no grain's or contact's arithmetic depends on the block
 // it falls in (the pair pass adds each grain's terms in list order whatever the cut, see
 // dem_solver.cpp), so the cut, and the timing behind it, changes the speed only: the same bits
 // for any cut, which tests check with deliberately lopsided shares.
 //
-// Why chunks as well: the cut balances the threads on average, not step by step. On the
-// project's VM each thread's time for the same block wanders by a few % from one step to the
-// next (a host's other work, a stolen tick), and every loop ends with the threads meeting:
-// each step waits for whichever was slower that time, 6-8 % of a two-thread step in all
-// (docs/BENCHMARKS.md, "The DEM step's design"). In the loops whose grains are independent (the
-// opening and closing grain loops: no grain's operations read what another's write) a
-// thread takes its own block in chunks, and then the chunks its partners have not reached
-// yet. Which thread does a grain changes the speed only, never the bits. The pair pass shares
-// only the tail of each block (share_tail()), and from both ends: its threads add forces to
-// their own grains as they go, in list order, which a chunk done by another thread cannot.
-// A block's own thread takes its tail from the front (take_chunk()) and goes on adding; a
-// thread done with its own takes chunks from the far end (take_back()), whose entries only
-// store their forces; those grains, from where the two ends met (taken_back_from()), are
-// summed after the pass (see DemSolver::pair_forces). So only as many grains are left to
-// that slower sum as the step's imbalance asked for.
+// Why chunks as well: the cut balances the threads on average, not step by step. Each
+// thread's time for the same block wanders by a few % from one step to the next (a host's
+// other work, a stolen tick), and every loop ends with the threads meeting: each step waits
+// for whichever was slower that time, 6-8 % of a two-thread step in all on the project's VM
+// (bench/ab_dense.sh -s). In the loops whose grains are independent (the opening and closing
+// grain loops: no grain's operations read what another's write) a thread takes its own block
+// in chunks, and then the chunks its partners have not reached yet. Which thread does a grain
+// changes the speed only, never the bits. The pair pass shares only the tail of each block
+// (share_tail()), and from both ends: its threads add forces to their own grains as they go,
+// in list order, which a chunk done by another thread cannot. A block's own thread takes its
+// tail from the front (take_chunk()) and goes on adding; a thread done with its own takes
+// chunks from the far end (take_chunk_from_back()), whose entries only store their forces;
+// those grains, from where the two ends met (first_taken_from_back()), are summed after the
+// pass (see DemSolver::dry_pair_forces). So only as many grains are left to that slower sum
+// as the step's imbalance asked for.
 #pragma once
 
 #include <algorithm>
@@ -89,8 +88,9 @@ class GrainSplit {
 
   // Chunks (see the header comment). open_chunks() before the loop, on one thread; then each
   // thread does its own blocks' grains before the tail, takes their tails' chunks with
-  // take_chunk() until they are done, then the others' (take_chunk(), or take_back() from
-  // the tail's far end). A chunk is [g0, g1); false once block b has none left.
+  // take_chunk() until they are done, then the others' (take_chunk(), or
+  // take_chunk_from_back() from the tail's far end). A chunk is [g0, g1); false once block b
+  // has none left.
   static constexpr std::uint32_t kChunk = 256;  // grains: a few us of work, one atomic op
   void open_chunks() {
     for (std::size_t b = 0; b < tail_.size(); ++b)
@@ -111,7 +111,7 @@ class GrainSplit {
     }
   }
   // The next chunk from the back of block b's tail.
-  bool take_back(int b, std::uint32_t& g0, std::uint32_t& g1) {
+  bool take_chunk_from_back(int b, std::uint32_t& g0, std::uint32_t& g1) {
     std::atomic<std::uint64_t>& ends = ends_[static_cast<std::size_t>(b)].v;
     std::uint64_t now = ends.load(std::memory_order_relaxed);
     for (;;) {
@@ -122,9 +122,9 @@ class GrainSplit {
       if (ends.compare_exchange_weak(now, pack(front, g0), std::memory_order_relaxed)) return true;
     }
   }
-  // Once the loop is over: the first of block b's grains that take_back() handed out (the
-  // block's end when none).
-  std::uint32_t taken_back_from(int b) const {
+  // Once the loop is over: the first of block b's grains that take_chunk_from_back() handed
+  // out (the block's end when none).
+  std::uint32_t first_taken_from_back(int b) const {
     return high(ends_[static_cast<std::size_t>(b)].v.load(std::memory_order_relaxed));
   }
   // At the end of each step: the step's times become an estimate of the shares; every kEvery

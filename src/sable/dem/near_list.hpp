@@ -2,15 +2,16 @@
 //
 // The neighbour list (collision/neighbor_list.hpp) holds every pair within the skin, rebuilt
 // from the cells when a grain has moved half a skin. In a dense bed more than half of those
-// candidates are apart (0.5 mm skin, 1.5 mm grains: 103,000 candidates, 46,500 touching), yet
-// the force pass tests each of them and the accumulation visits each twice. The near list is
-// a second, inner level: the indices of the candidates whose gap was below a smaller inner
-// skin when it was made, with its own per-grain incidence. It is remade from the neighbour
-// list (a filter, no cell search) when some grain has moved half an inner skin since, and
-// after every rebuild of the neighbour list. A candidate left out had a gap of at least the
-// inner skin, so it cannot touch before the next remake: the forces are the same bits as
-// with the whole list, only the apart entries are not visited. Entries left out are told to
-// the caller (`drop`), which clears what a pass would have cleared for an apart contact.
+// candidates are apart (bench/ab_dense.sh's bed, 0.5 mm skin, 1.5 mm grains: 103,000
+// candidates, 46,500 touching), yet the force pass tests each of them and the accumulation
+// visits each twice. The near list is a second, inner level: the indices of the candidates
+// whose gap was below a smaller inner skin when it was made, with its own per-grain
+// incidence. It is remade from the neighbour list (a filter, no cell search) when some grain
+// has moved half an inner skin since, and after every rebuild of the neighbour list. A
+// candidate left out had a gap of at least the inner skin, so it cannot touch before the
+// next remake: the forces are the same bits as with the whole list, only the apart entries
+// are not visited. Entries left out are told to the caller (`drop`), which clears what a
+// pass would have cleared for an apart contact.
 //
 // The inner skin is chosen at each remake from the fastest grain, so that a remake is due
 // after about kStepsPerRemake steps, but never below a tenth of the skin (a still bed) nor
