@@ -166,7 +166,7 @@ Rebound engine_rebound(double theta_deg, double e) {
   const Material plane = make_material("rigid-plane", 1.0, 1.0, 0.0, e, kMu, /*rigid=*/true);
   const double dt = contact_time(theta_deg) / 2000.0;
   World<3> w;
-  w.model.normal = NormalModel::kHertz;
+  w.model.normal = NormalLaws::id<HertzNormal>();
   w.model.tangential = TangentialModel::kHistory;
   setup_wall_impact<3>(w, alumina, plane, kRadius, Eigen::Vector3d(v_t, 0.0, -v_n), 5.0 * v_n * dt,
                        dt);

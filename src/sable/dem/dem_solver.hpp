@@ -31,7 +31,10 @@ inline void forget_if_ended(Vec* shear, Vec* force, Rot* moment, double* delta, 
 
 }  // namespace dem_detail
 
-template <int D>
+// Laws: the table of normal laws the World's ContactModel::normal indexes (contact/
+// registry.hpp); the pair pass is compiled once per law of it. Definitions:
+// dem/dem_solver_impl.hpp (instantiated for NormalLaws in dem/dem_solver.cpp).
+template <int D, class Laws = NormalLaws>
 class DemSolver final : public Solver {
  public:
   explicit DemSolver(World<D>& world) : world_(world) {

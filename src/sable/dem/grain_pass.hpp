@@ -15,8 +15,8 @@ namespace sable {
 // (reached through world_, every vector store would make the compiler fetch each array's
 // address again: see PairPass in dem_solver.cpp). Each thread works on its own copy
 // (firstprivate).
-template <int D>
-struct DemSolver<D>::GrainPass {
+template <int D, class Laws>
+struct DemSolver<D, Laws>::GrainPass {
   using S = Space<D>;
   using Vec = typename S::Vec;
   using Rot = typename S::Rot;

@@ -11,6 +11,8 @@
 // and meeting the thread team once. No grain's operations read what another's write, so
 // each loop shares its grains among the threads in chunks (dem/grain_split.hpp): whichever
 // thread does a grain, and however many threads run, the bits are the same.
+#pragma once
+
 #include <omp.h>
 
 #include <algorithm>
@@ -24,7 +26,7 @@
 
 namespace sable {
 
-namespace {
+namespace dem_detail {
 
 // This thread's part of a grain loop shared in chunks (dem/grain_split.hpp): its own blocks
 // (timed, for the next cuts), then whatever chunks of the others' are left; body(g0, g1) does
@@ -49,10 +51,10 @@ template <class Body>
     while (split.take_chunk((thread + k) % blocks, g0, g1)) body(g0, g1);
 }
 
-}  // namespace
+}  // namespace dem_detail
 
-template <int D>
-typename DemSolver<D>::GrainPass DemSolver<D>::make_grain_pass(double h_kick) {
+template <int D, class Laws>
+typename DemSolver<D, Laws>::GrainPass DemSolver<D, Laws>::make_grain_pass(double h_kick) {
   auto& p = world_.particles;
   const auto& nl = world_.neighbors;
   const double keep = world_.viscous_rate > 0.0 ? 1.0 / (1.0 + world_.viscous_rate * h_kick) : 1.0;
@@ -89,8 +91,9 @@ typename DemSolver<D>::GrainPass DemSolver<D>::make_grain_pass(double h_kick) {
 // h_drift, and the largest squared displacements since the lists' reference positions (which
 // the lists' "may an unseen pair touch now?" tests need), in one loop: each grain's position
 // and velocity are read once instead of three times.
-template <int D>
-typename DemSolver<D>::Displacements DemSolver<D>::kick_and_drift(double h_kick, double h_drift) {
+template <int D, class Laws>
+typename DemSolver<D, Laws>::Displacements DemSolver<D, Laws>::kick_and_drift(double h_kick,
+                                                                              double h_drift) {
   using S = Space<D>;
   GrainPass pass = make_grain_pass(h_kick);
   const auto& outer_ref = world_.neighbors.x_ref;
@@ -110,7 +113,7 @@ typename DemSolver<D>::Displacements DemSolver<D>::kick_and_drift(double h_kick,
     reduction(max : neighbor_max2, near_max2) if (blocks > 1)
   // clang-format on
   {
-    share_grains(split, [&](std::size_t g0, std::size_t g1) {
+    dem_detail::share_grains(split, [&](std::size_t g0, std::size_t g1) {
       // Copies local to the chunk, whose address is not taken: the compiler keeps them in
       // registers (reached through the lambda's references, every store to x could alias them).
       const GrainPass c = pass;
@@ -134,9 +137,9 @@ typename DemSolver<D>::Displacements DemSolver<D>::kick_and_drift(double h_kick,
 // grain, its wall contacts, its sum from its contacts' slots (see GrainPass::sum), the second
 // half kick by h_kick (none when 0: forces only) and the check of its state; true when some
 // grain's state is unsound (check_grain_states() then names it).
-template <int D>
+template <int D, class Laws>
 template <class Normal>
-bool DemSolver<D>::closing_loop(double h_kick) {
+bool DemSolver<D, Laws>::closing_loop(double h_kick) {
   GrainPass pass = make_grain_pass(h_kick);
   GrainSplit& split = grain_loop_split(closing_split_);
   const int blocks = split.blocks();
@@ -148,7 +151,7 @@ bool DemSolver<D>::closing_loop(double h_kick) {
     reduction(+ : touching) reduction(| : bad) if (blocks > 1)
   {
     const double h = h_kick;  // a local: the compiler need not reload it after each call
-    share_grains(split, [&](std::size_t g0, std::size_t g1) {
+    dem_detail::share_grains(split, [&](std::size_t g0, std::size_t g1) {
       // Three runs over the chunk (a few KiB: the second and third find it in the L1 cache):
       // its wall contacts (its grains' wall pairs are one run of the list), its sums, then
       // its kicks and checks. Each grain's operations keep their order (a wall contact reads
@@ -171,10 +174,10 @@ bool DemSolver<D>::closing_loop(double h_kick) {
 }
 
 // Grains [g0, g1)'s wall contacts (their wall pairs are one run of the list).
-template <int D>
+template <int D, class Laws>
 template <class Normal>
-void DemSolver<D>::wall_contacts(std::uint32_t g0, std::uint32_t g1, double& max_ratio,
-                                 std::size_t& touching) {
+void DemSolver<D, Laws>::wall_contacts(std::uint32_t g0, std::uint32_t g1, double& max_ratio,
+                                       std::size_t& touching) {
   const std::uint32_t* const wb = world_.neighbors.wall_begin.data();
   for (std::uint32_t k = wb[g0]; k < wb[g1]; ++k) wall_contact<Normal>(k, max_ratio, touching);
 }
@@ -183,10 +186,11 @@ void DemSolver<D>::wall_contacts(std::uint32_t g0, std::uint32_t g1, double& max
 // dry_pair_forces: an entry (i, j) has i < j, so their sums are final): their wall contacts,
 // then, for each grain whose sum the pass made (not kGathered), its walls' terms, its half
 // kick by h (none when 0) and its check. 1 when one of them is unsound.
-template <int D>
+template <int D, class Laws>
 template <class Normal>
-int DemSolver<D>::close_passed_grains(const GrainPass& pass, std::uint32_t g0, std::uint32_t g1,
-                                      double h, double& max_ratio, std::size_t& touching) {
+int DemSolver<D, Laws>::close_passed_grains(const GrainPass& pass, std::uint32_t g0,
+                                            std::uint32_t g1, double h, double& max_ratio,
+                                            std::size_t& touching) {
   wall_contacts<Normal>(g0, g1, max_ratio, touching);
   const GrainPass c = pass;  // local: in registers (see kick_and_drift)
   for (std::size_t i = g0; i < g1; ++i)
@@ -201,9 +205,9 @@ int DemSolver<D>::close_passed_grains(const GrainPass& pass, std::uint32_t g0, s
 // sum from their contacts' slots, the half kick by h and the check; grains g[0..n) when `g`,
 // else grains [g0, g0 + n) but those flagged kGathered (the list has them). 1 when one is
 // unsound.
-template <int D>
-int DemSolver<D>::close_gathered_grains(const GrainPass& pass, const std::uint32_t* g,
-                                        std::uint32_t g0, std::size_t n, double h) {
+template <int D, class Laws>
+int DemSolver<D, Laws>::close_gathered_grains(const GrainPass& pass, const std::uint32_t* g,
+                                              std::uint32_t g0, std::size_t n, double h) {
   const GrainPass c = pass;
   auto grain = [&](std::size_t s) -> std::size_t { return g ? g[s] : g0 + s; };
   auto skip = [&](std::size_t i) { return !g && (c.flags[i] & kGathered); };
@@ -220,9 +224,9 @@ int DemSolver<D>::close_gathered_grains(const GrainPass& pass, const std::uint32
 // from where its tail's two ends met, handed out in chunks of kGatheredChunk by `next`.
 // Relaxed: the meeting has ordered the pass's writes; which thread closes a grain changes
 // nothing but the speed. 1 when one of them is unsound.
-template <int D>
-int DemSolver<D>::close_gathered_chunks(const GrainPass& pass, std::atomic<std::uint32_t>& next,
-                                        double h) {
+template <int D, class Laws>
+int DemSolver<D, Laws>::close_gathered_chunks(const GrainPass& pass,
+                                              std::atomic<std::uint32_t>& next, double h) {
   const GrainSplit& split = pair_split_;
   const int blocks = split.blocks();
   const std::uint32_t* const block = split.bounds();
@@ -256,8 +260,8 @@ int DemSolver<D>::close_gathered_chunks(const GrainPass& pass, std::atomic<std::
 
 // Stage total_wall_forces (printed "closing"): each wall's total force, from its contacts'
 // forces in list order, once every contact's force is final.
-template <int D>
-void DemSolver<D>::total_wall_forces() {
+template <int D, class Laws>
+void DemSolver<D, Laws>::total_wall_forces() {
   const auto& wl = world_.neighbors.wall_pairs;
   for (auto& wall : world_.walls) wall.force.setZero();
   for (std::size_t k = 0; k < wl.size(); ++k) world_.walls[wl.wall[k]].force -= wl.force[k];
@@ -265,9 +269,9 @@ void DemSolver<D>::total_wall_forces() {
 
 // Wall pair k's contact: its force on the grain, n x F and overlap stored in its slots (for
 // the grain's sum), and its rolling couple; raises max_ratio to the overlap over the radius.
-template <int D>
+template <int D, class Laws>
 template <class Normal>
-void DemSolver<D>::wall_contact(std::size_t k, double& max_ratio, std::size_t& touching) {
+void DemSolver<D, Laws>::wall_contact(std::size_t k, double& max_ratio, std::size_t& touching) {
   using S = Space<D>;
   const auto& p = world_.particles;
   auto& wl = world_.neighbors.wall_pairs;
@@ -304,43 +308,4 @@ void DemSolver<D>::wall_contact(std::size_t k, double& max_ratio, std::size_t& t
 
 // The stages in dem_solver.cpp call these: an implicit instantiation here may be inlined
 // away (clang does at -O2), so they are instantiated explicitly.
-template DemSolver<2>::GrainPass DemSolver<2>::make_grain_pass(double);
-template DemSolver<3>::GrainPass DemSolver<3>::make_grain_pass(double);
-template DemSolver<2>::Displacements DemSolver<2>::kick_and_drift(double, double);
-template DemSolver<3>::Displacements DemSolver<3>::kick_and_drift(double, double);
-template int DemSolver<2>::close_gathered_grains(const GrainPass&, const std::uint32_t*,
-                                                 std::uint32_t, std::size_t, double);
-template int DemSolver<3>::close_gathered_grains(const GrainPass&, const std::uint32_t*,
-                                                 std::uint32_t, std::size_t, double);
-template int DemSolver<2>::close_gathered_chunks(const GrainPass&, std::atomic<std::uint32_t>&,
-                                                 double);
-template int DemSolver<3>::close_gathered_chunks(const GrainPass&, std::atomic<std::uint32_t>&,
-                                                 double);
-template void DemSolver<2>::total_wall_forces();
-template void DemSolver<3>::total_wall_forces();
-template bool DemSolver<2>::closing_loop<HertzNormal>(double);
-template bool DemSolver<2>::closing_loop<LinearNormal>(double);
-template bool DemSolver<3>::closing_loop<HertzNormal>(double);
-template bool DemSolver<3>::closing_loop<LinearNormal>(double);
-template int DemSolver<2>::close_passed_grains<HertzNormal>(const GrainPass&, std::uint32_t,
-                                                            std::uint32_t, double, double&,
-                                                            std::size_t&);
-template void DemSolver<2>::wall_contacts<HertzNormal>(std::uint32_t, std::uint32_t, double&,
-                                                       std::size_t&);
-template int DemSolver<2>::close_passed_grains<LinearNormal>(const GrainPass&, std::uint32_t,
-                                                             std::uint32_t, double, double&,
-                                                             std::size_t&);
-template void DemSolver<2>::wall_contacts<LinearNormal>(std::uint32_t, std::uint32_t, double&,
-                                                        std::size_t&);
-template int DemSolver<3>::close_passed_grains<HertzNormal>(const GrainPass&, std::uint32_t,
-                                                            std::uint32_t, double, double&,
-                                                            std::size_t&);
-template void DemSolver<3>::wall_contacts<HertzNormal>(std::uint32_t, std::uint32_t, double&,
-                                                       std::size_t&);
-template int DemSolver<3>::close_passed_grains<LinearNormal>(const GrainPass&, std::uint32_t,
-                                                             std::uint32_t, double, double&,
-                                                             std::size_t&);
-template void DemSolver<3>::wall_contacts<LinearNormal>(std::uint32_t, std::uint32_t, double&,
-                                                        std::size_t&);
-
 }  // namespace sable
