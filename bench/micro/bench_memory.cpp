@@ -1,5 +1,5 @@
 // What the machine's caches and memory give a loop over the grains, on one thread and on two:
-// the arithmetic and the arrays of the DEM step's opening loop (dem/grain_loops.cpp,
+// the arithmetic and the arrays of the DEM step's opening loop (dem/grain_loops_impl.hpp,
 // kick_and_drift: half kick, drift, the largest displacements from the two lists' reference
 // positions), on arrays of its own, hot in the caches from the pass before. It moves the
 // bytes the real loop moves and does nothing else. Two threads near twice one here mean the

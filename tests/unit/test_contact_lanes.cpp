@@ -23,7 +23,7 @@ struct Contact {
   sable::PairParams p;
 };
 
-// The scalar law as PairPass::touch() (dem/dem_solver.cpp) sets it up: the force on a, the
+// The scalar law as PairPass::touch() (dem/dem_solver_impl.hpp) sets it up: the force on a, the
 // spring after the step, n x F, the overlap and the two lever arms.
 struct Result {
   Vec f, shear, m;

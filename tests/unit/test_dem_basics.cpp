@@ -218,7 +218,7 @@ TEST(DemBasics, ThreadCountDoesNotChangeABitInADiluteBed) {
   for (int threads : {2, 3, 4}) EXPECT_EQ(run(threads), one) << threads << " threads";
 }
 
-// Rolling resistance (in the pair pass, dem/dem_solver.cpp) keeps the thread count out of the
+// Rolling resistance (in the pair pass, dem/dem_solver_impl.hpp) keeps the thread count out of the
 // bits: each contact's couple is added to its grains right after its force's torque, in the
 // fixed per-grain order of the pass and of the gather. The bed of ThreadCountDoesNotChangeABit
 // with rolling resistance (mu_r = 0.1 on the material, the lists carrying springs from their

@@ -259,7 +259,7 @@ TEST(NearList, StaleCriterion) {
   EXPECT_FALSE(near.stale(p, nl, false));
   const auto x0 = p.x;
 
-  // The DEM step measures the displacement in its drift loop (dem/grain_loops.cpp) and asks
+  // The DEM step measures the displacement in its drift loop (dem/grain_loops_impl.hpp) and asks
   // stale_after(): that path must decide exactly as stale() does.
   const auto moved = [&] {
     const bool s = near.stale(p, nl, false);

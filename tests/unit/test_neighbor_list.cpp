@@ -329,7 +329,7 @@ TEST(NeighborList, NeedsRebuildCriterion) {
   EXPECT_TRUE(nl.needs_rebuild(p, walls));           // never built
   EXPECT_TRUE(nl.needs_rebuild_after(-1.0, walls));  // the DEM drift's "no reference"
   nl.build(p, walls);
-  // The DEM step measures the displacement in its drift loop (dem/grain_loops.cpp) and asks
+  // The DEM step measures the displacement in its drift loop (dem/grain_loops_impl.hpp) and asks
   // needs_rebuild_after(): that path must decide exactly as needs_rebuild() does.
   const auto rebuild = [&] {
     const bool due = nl.needs_rebuild(p, walls);

@@ -102,7 +102,7 @@ TEST_P(RunDim, RestartIsBitIdentical) {
 }
 
 // The thread count does not change a single bit: contact forces are computed per contact and
-// summed per grain in a fixed order (dem_solver.cpp), never with atomics or per-thread sums.
+// summed per grain in a fixed order (dem_solver_impl.hpp), never with atomics or per-thread sums.
 // 3,000+ grains so that the loops really run in parallel (small loops stay serial).
 TEST_P(RunDim, BitIdenticalForOneAndTwoThreads) {
   const int dim = GetParam();

@@ -15,7 +15,7 @@ namespace sable {
 namespace {
 
 // One loop over the lanes, every branch of contact_force() a select; the comments say which
-// part of contact_force() (or of PairPass::touch() in dem/dem_solver.cpp) each stretch
+// part of contact_force() (or of PairPass::touch() in dem/dem_solver_impl.hpp) each stretch
 // repeats. Eigen's 3-vector dot products and norms sum left to right, ((x + y) + z).
 template <class Normal>
 [[gnu::always_inline]] inline void run(ContactLanes& L, int n, const ContactModel& law, double dt) {

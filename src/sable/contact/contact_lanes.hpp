@@ -10,7 +10,7 @@
 // DEM state hashes are unchanged by it. Change the two together.
 //
 // The DEM's dry pass fills the lanes from the grains it finds touching, runs the batch, and
-// then adds each force to its grains in list order (dem/dem_solver.cpp, PairPass::entries).
+// then adds each force to its grains in list order (dem/dem_solver_impl.hpp, PairPass::entries).
 #pragma once
 
 #include <cstdint>

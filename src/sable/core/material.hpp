@@ -45,7 +45,7 @@ struct PairParams {
   double st_over_sn_sqrt = 0.0;   // sqrt(4 G* / Y*): Hertz gamma_t / gamma_n, precomputed
 };
 
-// The pair table as plain pointer and size, for hot loops (dem/dem_solver.cpp: a local copy
+// The pair table as plain pointer and size, for hot loops (dem/dem_solver_impl.hpp: a local copy
 // cannot be aliased by the loop's stores, so the compiler keeps it in registers).
 struct PairTableView {
   const PairParams* table;

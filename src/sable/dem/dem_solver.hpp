@@ -86,20 +86,20 @@ class DemSolver final : public Solver {
     double neighbor_max2 = -1.0, near_max2 = 0.0;
   };
 
-  // The step's stages, in order (step() in dem_solver.cpp), each timed as its Phase.
+  // The step's stages, in order (step() in dem_solver_impl.hpp), each timed as its Phase.
   Displacements integrate(double h);                  // Phase::kIntegrate
   void update_neighbors(const Displacements* moved);  // Phase::kNeighbors
   bool pair_pass(double h_kick);                      // Phase::kPairPass
   void total_wall_forces();                           // Phase::kClosing
 
-  // integrate: the opening grain loop (dem/grain_loops.cpp).
+  // integrate: the opening grain loop (dem/grain_loops_impl.hpp).
   Displacements kick_and_drift(double h_kick, double h_drift);
   // update_neighbors: the per-entry scratch fitted to the lists, the near list remade.
   void fit_scratch_to_lists();
   void update_near_list(const Displacements* moved);
   // pair_pass: each grain's rolling factor, then the contact law picked for the pair forces
   // (dry: summed and closed per grain as the pass goes; wet: stored per contact) and, after
-  // the bridges' liquid is settled, for the wet runs' closing loop (dem/grain_loops.cpp).
+  // the bridges' liquid is settled, for the wet runs' closing loop (dem/grain_loops_impl.hpp).
   void prepare_rolling(bool wet);
   bool pair_forces_for_law(double h_kick, bool wet, bool rolling);
   bool closing_loop_for_law(double h_kick);
@@ -110,7 +110,7 @@ class DemSolver final : public Solver {
   void settle_liquid();
   template <class Normal>
   bool closing_loop(double h_kick);
-  // A grain's closing (dem/grain_loops.cpp): its wall contacts, its sum, the second half
+  // A grain's closing (dem/grain_loops_impl.hpp): its wall contacts, its sum, the second half
   // kick, the check of its state.
   template <class Normal>
   void wall_contact(std::size_t k, double& max_ratio, std::size_t& touching);
@@ -140,9 +140,9 @@ class DemSolver final : public Solver {
   StepDiagnostics diag_;
   PhaseTimers timers_;
   // Per-contact scratch of the force pass (n x F and overlap), read by the gather (GrainPass::sum,
-  // dem/grain_loops.cpp). n x F is written only for the contacts the gather reads (every one in wet
-  // runs; in dry runs those of gathered grains): elsewhere it may be stale. Apart entries hold
-  // zeros.
+  // dem/grain_loops_impl.hpp). n x F is written only for the contacts the gather reads (every one
+  // in wet runs; in dry runs those of gathered grains): elsewhere it may be stale. Apart entries
+  // hold zeros.
   std::vector<typename Space<D>::Rot> pair_moment_, wall_moment_;
   std::vector<double> pair_delta_, wall_delta_;  // 0 apart, > 0 overlap, -1 unknown
   // Rolling resistance only: each contact's couple on its first grain (read by the gather

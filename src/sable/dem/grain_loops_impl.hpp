@@ -1,4 +1,4 @@
-// The DEM step's work per grain (dem_solver.cpp holds the step itself and the pair passes):
+// The DEM step's work per grain (dem_solver_impl.hpp holds the step itself and the pair passes):
 //   - the opening loop, kick_and_drift() (stage integrate): the first half kick and the
 //     drift, measuring on the way how far the grains have moved since the two lists'
 //     reference positions;
@@ -306,6 +306,4 @@ void DemSolver<D, Laws>::wall_contact(std::size_t k, double& max_ratio, std::siz
   ++touching;
 }
 
-// The stages in dem_solver.cpp call these: an implicit instantiation here may be inlined
-// away (clang does at -O2), so they are instantiated explicitly.
 }  // namespace sable

@@ -1,6 +1,6 @@
 // DemSolver's GrainPass: what the grain loops read and write, and a grain's sum, kick and
-// check (dem/grain_loops.cpp). Private to the DEM solver's translation units: the pair pass
-// (dem_solver.cpp) closes its grains with it as it goes.
+// check (dem/grain_loops_impl.hpp). Private to the DEM solver's translation units: the pair pass
+// (dem_solver_impl.hpp) closes its grains with it as it goes.
 #pragma once
 
 #include <cstddef>
@@ -13,7 +13,7 @@ namespace sable {
 
 // What the grain loops read and write, as raw pointers and plain copies taken once per loop
 // (reached through world_, every vector store would make the compiler fetch each array's
-// address again: see PairPass in dem_solver.cpp). Each thread works on its own copy
+// address again: see PairPass in dem_solver_impl.hpp). Each thread works on its own copy
 // (firstprivate).
 template <int D, class Laws>
 struct DemSolver<D, Laws>::GrainPass {

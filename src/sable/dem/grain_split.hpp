@@ -16,7 +16,7 @@
 //
 // Why it cannot change the results: no grain's or contact's arithmetic depends on the block
 // it falls in (the pair pass adds each grain's terms in list order whatever the cut, see
-// dem_solver.cpp), so the cut, and the timing behind it, changes the speed only: the same bits
+// dem_solver_impl.hpp), so the cut, and the timing behind it, changes the speed only: the same bits
 // for any cut, which tests check with deliberately lopsided shares.
 //
 // Why chunks as well: the cut balances the threads on average, not step by step. Each

@@ -1,5 +1,5 @@
 // Running a scenario: stages, outputs, snapshots, progress. The physics of one step lives in
-// the solver (dem/dem_solver.cpp: DemSolver::step); this file only decides when to stop and
+// the solver (dem/dem_solver_impl.hpp: DemSolver::step); this file only decides when to stop and
 // what to write.
 #pragma once
 
