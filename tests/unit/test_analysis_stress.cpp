@@ -50,7 +50,7 @@ Sample<3> random_sample(std::size_t n, std::size_t contacts, std::uint64_t seed)
     s.inertia.push_back(0.4 * s.mass.back() * s.radius.back() * s.radius.back());
     s.v.emplace_back(Eigen::Vector3d::Zero());
     s.a.emplace_back(Eigen::Vector3d::Zero());
-    s.w.emplace_back(Eigen::Vector3d::Zero());
+    s.omega.emplace_back(Eigen::Vector3d::Zero());
     s.alpha.emplace_back(Eigen::Vector3d::Zero());
     s.fixed.push_back(0);
     s.id.push_back(static_cast<std::uint32_t>(g));
@@ -161,7 +161,7 @@ TEST(AnalysisStress, RotatingFrameUndoesARigidRotation) {
     for (std::size_t g = 0; g < s.size(); ++g) {
       s.x[g] = f.point + r * (s0.x[g] - f.point);
       s.v[g] = (f.omega * u).cross(s.x[g] - f.point);
-      s.w[g] = f.omega * u;
+      s.omega[g] = f.omega * u;
     }
     for (std::size_t k = 0; k < s.contacts.size(); ++k)
       s.contacts.force[k] = r * s0.contacts.force[k];
@@ -169,7 +169,7 @@ TEST(AnalysisStress, RotatingFrameUndoesARigidRotation) {
     for (std::size_t g = 0; g < s.size(); ++g) {
       EXPECT_LT((back.x[g] - s0.x[g]).norm(), 1e-14);  // a few rotations' round-off at |x| ~ 1
       EXPECT_LT(back.v[g].norm(), 1e-14);
-      EXPECT_LT(back.w[g].norm(), 1e-14);
+      EXPECT_LT(back.omega[g].norm(), 1e-14);
     }
     for (std::size_t k = 0; k < s.contacts.size(); ++k)
       EXPECT_LT((back.contacts.force[k] - s0.contacts.force[k]).norm(), 1e-14);
@@ -178,7 +178,7 @@ TEST(AnalysisStress, RotatingFrameUndoesARigidRotation) {
   s2.x.emplace_back(1.0, 0.0);
   s2.v.emplace_back(0.0, 2.0);
   s2.a.emplace_back(-4.0, 0.0);
-  s2.w.push_back(2.0);
+  s2.omega.push_back(2.0);
   s2.alpha.push_back(0.0);
   s2.time = 0.25 * M_PI;  // a quarter turn at omega = 2 takes (1, 0) to (0, 1)
   s2.x[0] = Eigen::Vector2d(0.0, 1.0);

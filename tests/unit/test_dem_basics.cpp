@@ -104,7 +104,7 @@ TEST(DemBasics, OrientationTrackingChangesNothingElse) {
   for (std::size_t k = 0; k < on.size(); ++k) {
     EXPECT_EQ(on.x[k], off.x[k]);
     EXPECT_EQ(on.v[k], off.v[k]);
-    EXPECT_EQ(on.w[k], off.w[k]);
+    EXPECT_EQ(on.omega[k], off.omega[k]);
     EXPECT_TRUE(off.q[k].coeffs() == Eigen::Quaterniond::Identity().coeffs());
     EXPECT_GT(on.q[k].vec().norm(), 1e-3);  // it rolled: turned by more than ~0.002 rad
     EXPECT_NEAR(on.q[k].norm(), 1.0, 1e-12);
@@ -129,7 +129,7 @@ std::size_t run_lattice_bed(sable::World<3>& w, int threads, double spacing = 1.
       for (int x = 0; x < 16; ++x) {
         w.particles.add({a * x - 0.004, a * y - 0.004, a * z - 0.004 + r}, r, 2500.0, 0, 1.0);
         w.particles.v.back() = 0.01 * Eigen::Vector3d(jitter(), jitter(), jitter());
-        w.particles.w.back() = 10.0 * Eigen::Vector3d(jitter(), jitter(), jitter());
+        w.particles.omega.back() = 10.0 * Eigen::Vector3d(jitter(), jitter(), jitter());
       }
   w.gravity = {0, 0, -9.81};
   sable::Wall<3> floor;
@@ -240,10 +240,11 @@ TEST(DemBasics, ThreadCountDoesNotChangeABitWithRollingResistance) {
       w.neighbors.rolling = true;
     }
     const std::size_t touching = run_lattice_bed(w, threads);
-    End end{sable::state_hash(w), w.particles.w, w.particles.t, w.neighbors.pairs.roll,
+    End end{sable::state_hash(w), w.particles.omega, w.particles.t, w.neighbors.pairs.roll,
             w.neighbors.wall_pairs.roll};
     for (std::size_t k = 0; k < w.particles.size(); ++k)
-      end.rotational_energy += 0.5 * w.particles.w[k].squaredNorm() / w.particles.inv_inertia[k];
+      end.rotational_energy +=
+          0.5 * w.particles.omega[k].squaredNorm() / w.particles.inv_inertia[k];
     end.touching = touching;
     return end;
   };

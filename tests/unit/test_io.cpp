@@ -85,7 +85,7 @@ void remove_last(sable::ParticleStore<D>& p) {
   p.ids.destroy(p.id.back());
   p.x.pop_back();
   p.v.pop_back();
-  p.w.pop_back();
+  p.omega.pop_back();
   p.f.pop_back();
   p.t.pop_back();
   p.radius.pop_back();

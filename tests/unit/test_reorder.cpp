@@ -139,7 +139,7 @@ World<D> shuffled_bed(int side, int layers, double v) {
   for (const Vec& s : sites) {
     w.particles.add(s, r, 2500.0, 0, w.thickness);
     for (int d = 0; d < D; ++d) w.particles.v.back()[d] = v * g.next();
-    w.particles.w.back() = random_rot<D>(g, 10.0);
+    w.particles.omega.back() = random_rot<D>(g, 10.0);
   }
   w.gravity = Vec::Zero();
   w.gravity[D - 1] = -9.81;
@@ -191,7 +191,7 @@ Grains<D> record(const World<D>& w) {
       q = Eigen::Vector4d(p.q[s], 0.0, 0.0, 0.0);
     }
     g.grain[p.id[s].index] = {p.x[s],        p.v[s],           p.f[s],           nl.x_ref[s],
-                              p.w[s],        p.t[s],           p.radius[s],      p.mass[s],
+                              p.omega[s],    p.t[s],           p.radius[s],      p.mass[s],
                               p.inv_mass[s], p.inv_inertia[s], w.liquid.film[s], q,
                               p.material[s], p.flags[s]};
   }

@@ -40,14 +40,14 @@ TEST(ViscousDamping, FreeGrainDecaysAsTheImplicitUpdateSays) {
   build_model(cfg, w);
   build_grains(cfg, w);
   w.viscous_rate = cfg.stages[0].viscous_damping;
-  w.particles.w[0] = Eigen::Vector3d(30.0, 0.0, -10.0);
-  const Eigen::Vector3d v0 = w.particles.v[0], w0 = w.particles.w[0];
+  w.particles.omega[0] = Eigen::Vector3d(30.0, 0.0, -10.0);
+  const Eigen::Vector3d v0 = w.particles.v[0], w0 = w.particles.omega[0];
   DemSolver<3> dem(w);
   dem.initialize();
   for (int k = 0; k < 1000; ++k) dem.step();
   const double factor = std::pow(1.0 + 5.0 * 0.5e-4, -2000.0);
   EXPECT_NEAR((w.particles.v[0] - factor * v0).norm(), 0.0, 1e-12 * v0.norm());
-  EXPECT_NEAR((w.particles.w[0] - factor * w0).norm(), 0.0, 1e-12 * w0.norm());
+  EXPECT_NEAR((w.particles.omega[0] - factor * w0).norm(), 0.0, 1e-12 * w0.norm());
   EXPECT_NEAR(factor, std::exp(-5.0 * 0.1), 1e-4);  // the implicit update tracks exp(-nu t)
 }
 
@@ -94,7 +94,7 @@ TEST(StageKeys, TranslationalEnergyLeavesOutRotation) {
   build_model(cfg, w);
   build_grains(cfg, w);
   w.particles.v[0].setZero();
-  w.particles.w[0] = Eigen::Vector3d(0.0, 0.0, 50.0);
+  w.particles.omega[0] = Eigen::Vector3d(0.0, 0.0, 50.0);
   const double inertia = 0.4 * w.particles.mass[0] * 1e-6;
   EXPECT_NEAR(kinetic_energy(w), 0.5 * inertia * 2500.0, 1e-12 * inertia * 2500.0);
   EXPECT_EQ(kinetic_energy(w, true), 0.0);

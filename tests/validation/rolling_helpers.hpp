@@ -77,9 +77,9 @@ void roll_forward(World<D>& w, std::size_t k, double v0, double radius) {
   along[0] = 1.0;
   w.particles.v[k] = v0 * along;
   if constexpr (D == 2)
-    w.particles.w[k] = -v0 / radius;
+    w.particles.omega[k] = -v0 / radius;
   else
-    w.particles.w[k] = Vec(0.0, v0 / radius, 0.0);
+    w.particles.omega[k] = Vec(0.0, v0 / radius, 0.0);
 }
 
 }  // namespace sable::validation

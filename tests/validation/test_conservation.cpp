@@ -185,9 +185,9 @@ typename Space<D>::Rot angular_momentum(const World<D>& w, double& scale) {
   scale = 0.0;
   for (std::size_t k = 0; k < p.size(); ++k) {
     const double inertia = 1.0 / p.inv_inertia[k];
-    l += Space<D>::moment(p.x[k], p.mass[k] * p.v[k]) + inertia * p.w[k];
+    l += Space<D>::moment(p.x[k], p.mass[k] * p.v[k]) + inertia * p.omega[k];
     scale += p.mass[k] * p.x[k].norm() * p.v[k].norm() +
-             inertia * std::sqrt(Space<D>::rot_norm2(p.w[k]));
+             inertia * std::sqrt(Space<D>::rot_norm2(p.omega[k]));
   }
   return l;
 }
@@ -244,9 +244,9 @@ void check_momentum(int n_grains) {
     for (int d = 0; d < D; ++d) v[d] += 0.3 * u(rng);
     w.particles.v.back() = v;
     if constexpr (D == 2)
-      w.particles.w.back() = 200.0 * u(rng);
+      w.particles.omega.back() = 200.0 * u(rng);
     else
-      w.particles.w.back() = 200.0 * Vec(u(rng), u(rng), u(rng));
+      w.particles.omega.back() = 200.0 * Vec(u(rng), u(rng), u(rng));
   }
   const double m = ParticleStore<D>::grain_mass(kRadius, kDensity, 1.0);
   const double y_star = 1e8 / (2.0 * (1.0 - 0.3 * 0.3));
@@ -261,7 +261,7 @@ void check_momentum(int n_grains) {
   auto spin_momentum = [&w] {
     auto s = Space<D>::zero_rot();
     for (std::size_t k = 0; k < w.particles.size(); ++k)
-      s += w.particles.w[k] / w.particles.inv_inertia[k];
+      s += w.particles.omega[k] / w.particles.inv_inertia[k];
     return s;
   };
   const auto spin0 = spin_momentum();

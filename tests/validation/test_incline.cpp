@@ -102,9 +102,9 @@ Motion roll_down(double theta_deg) {
   // v + omega x (-R up) vanishes for omega = -v/R in 2D (about z), +v/R about y in 3D.
   double spin = 0.0;
   if constexpr (D == 2)
-    spin = -w.particles.w[0];
+    spin = -w.particles.omega[0];
   else
-    spin = w.particles.w[0].y();
+    spin = w.particles.omega[0].y();
   return {fit_slope(t, v), spin * kRadius, v.back()};
 }
 

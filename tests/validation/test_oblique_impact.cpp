@@ -68,7 +68,7 @@ Rebound oblique_impact(double theta_deg) {
                        dt);
   const ImpactResult r = run_wall_impact(w, 1'000'000);
   EXPECT_TRUE(r.ended);
-  return {r.restitution, v_t, v_n, w.particles.v[0].x(), w.particles.w[0].y(), r.max_overlap};
+  return {r.restitution, v_t, v_n, w.particles.v[0].x(), w.particles.omega[0].y(), r.max_overlap};
 }
 
 TEST(ObliqueImpact, ChungOoiTest4GrossSlidingMatchesRigidBodyTheory) {

@@ -173,7 +173,7 @@ Rebound engine_rebound(double theta_deg, double e) {
   const ImpactResult r = run_wall_impact(w, 1'000'000);
   EXPECT_TRUE(r.ended);
   // Spin about y: a sphere rolling towards +x has omega_y = v_x / R.
-  const double v_c = w.particles.v[0].x() - kRadius * w.particles.w[0].y();
+  const double v_c = w.particles.v[0].x() - kRadius * w.particles.omega[0].y();
   return {v_c / v_t, r.restitution, 0.0};
 }
 

@@ -120,7 +120,7 @@ void record(const World<D>& w, const CdSolver<D>& solver, Trace& tr) {
   tr.t.push_back(w.time);
   tr.x.push_back(p.x[0].x());
   tr.v.push_back(p.v[0].x());
-  tr.spin_r.push_back(forward(p.w[0]) * kRadius);
+  tr.spin_r.push_back(forward(p.omega[0]) * kRadius);
   double couple = 0.0, couple_norm = 0.0, normal = 0.0;
   for (std::size_t k = 0; k < wl.size(); ++k) {
     normal += wl.force[k][D - 1];

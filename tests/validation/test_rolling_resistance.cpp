@@ -130,9 +130,9 @@ Trace simulate(const Setup& s) {
     tr.x.push_back(w.particles.x[0].x());
     tr.v.push_back(w.particles.v[0].x());
     if constexpr (D == 2)
-      tr.spin_r.push_back(-w.particles.w[0] * kRadius);
+      tr.spin_r.push_back(-w.particles.omega[0] * kRadius);
     else
-      tr.spin_r.push_back(w.particles.w[0].y() * kRadius);
+      tr.spin_r.push_back(w.particles.omega[0].y() * kRadius);
   }
   return tr;
 }

@@ -178,7 +178,7 @@ void check_coulomb_at_walls(const fs::path& snapshot, double cone_tolerance) {
     if (!c.is_wall(k) || s.walls[c.j[k]].name == "bottom") continue;
     const Eigen::Vector2d arm = c.arm_i[k], n = c.n[k];
     const Eigen::Vector2d vp =
-        s.v[c.i[k]] + Eigen::Vector2d(-s.w[c.i[k]] * arm.y(), s.w[c.i[k]] * arm.x());
+        s.v[c.i[k]] + Eigen::Vector2d(-s.omega[c.i[k]] * arm.y(), s.omega[c.i[k]] * arm.x());
     const double slip = (vp - vp.dot(n) * n).norm();
     const double m = c.ft[k].norm() / (c.friction[k] * c.fn[k]);
     if (slip > 0.05 * kDescent) {

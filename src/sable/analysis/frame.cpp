@@ -71,7 +71,7 @@ Sample<D> to_rotating_frame(const Sample<D>& s, const RotatingFrame& frame) {
     out.x[g] = r.pos(s.x[g]);
     out.v[g] = r.vec(s.v[g]) - r.frame_velocity(out.x[g]);
     out.a[g] = r.vec(s.a[g]);
-    out.w[g] = r.rot(s.w[g]) - r.omega;
+    out.omega[g] = r.rot(s.omega[g]) - r.omega;
     out.alpha[g] = r.rot(s.alpha[g]);
   }
   auto& c = out.contacts;

@@ -65,7 +65,7 @@ void add_grains(const World<D>& w, Sample<D>& s) {
   if (s.geometry == ForceGeometry::kContactDynamics)
     for (std::size_t k = 0; k < n; ++k) s.x[k] -= w.dt * p.v[k];
   s.v = p.v;
-  s.w = p.w;
+  s.omega = p.omega;
   s.radius = p.radius;
   s.mass = p.mass;
   s.a.resize(n);

@@ -85,7 +85,7 @@ struct Sample {
 
   // Grains, by slot.
   std::vector<Vec> x, v, a;                           // position, velocity, acceleration (m/s^2)
-  std::vector<Rot> w, alpha;                          // angular velocity and acceleration
+  std::vector<Rot> omega, alpha;                      // angular velocity and acceleration
   std::vector<double> radius, mass, volume, inertia;  // volume: per 2D thickness times it
   std::vector<std::uint8_t> fixed;
   std::vector<std::uint32_t> id;  // stable id index (for following grains across snapshots)

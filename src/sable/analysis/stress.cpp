@@ -108,7 +108,7 @@ MeanStress<D> mean_stress(const Sample<D>& s, const Region<D>& region,
     m.gravity -= s.mass[g] * s.gravity * lever.transpose();
     const double j = 0.5 * s.inertia[g];  // int rho r r^T = (I / 2) Id for a disk or sphere
     m.inertia += s.mass[g] * s.a[g] * lever.transpose() +
-                 j * (cross_matrix(s.alpha[g]) + centripetal(s.w[g]));
+                 j * (cross_matrix(s.alpha[g]) + centripetal(s.omega[g]));
   }
   if (m.grains == 0) throw InputError(fmt::format("{}: the region holds no grain", s.source));
   const auto& c = s.contacts;

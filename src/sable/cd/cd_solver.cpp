@@ -28,11 +28,11 @@ class CdSolver<D>::Problem {
   LVec velocity(std::size_t a) const {
     using S = Space<D>;
     const std::uint32_t i = c_.i[a], j = c_.partner[a];
-    Vec vrel = p_.v[i] + S::spin_velocity(p_.w[i], c_.arm_i[a]);
+    Vec vrel = p_.v[i] + S::spin_velocity(p_.omega[i], c_.arm_i[a]);
     if (c_.wall[a]) {
       vrel -= walls_[j].velocity;
     } else {
-      vrel -= p_.v[j] + S::spin_velocity(p_.w[j], c_.arm_j[a]);
+      vrel -= p_.v[j] + S::spin_velocity(p_.omega[j], c_.arm_j[a]);
     }
     LVec u = c_.frame[a].transpose() * vrel;
     u[0] += std::max(c_.gap[a], 0.0) * inv_h_;
@@ -45,10 +45,10 @@ class CdSolver<D>::Problem {
     const Vec impulse = c_.frame[a] * dr;
     const std::uint32_t i = c_.i[a], j = c_.partner[a];
     p_.v[i] += p_.inv_mass[i] * impulse;
-    p_.w[i] += p_.inv_inertia[i] * S::moment(c_.arm_i[a], impulse);
+    p_.omega[i] += p_.inv_inertia[i] * S::moment(c_.arm_i[a], impulse);
     if (!c_.wall[a]) {
       p_.v[j] -= p_.inv_mass[j] * impulse;
-      p_.w[j] -= p_.inv_inertia[j] * S::moment(c_.arm_j[a], impulse);
+      p_.omega[j] -= p_.inv_inertia[j] * S::moment(c_.arm_j[a], impulse);
     } else if (j < dofs_.size() && dofs_[j].inv_mass > 0.0) {
       // A wall body takes the opposite impulse along its normal (its one degree of freedom;
       // the friction impulses, tangent to a plane wall, have no component there). The speed
@@ -102,7 +102,7 @@ class CdSolver<D>::Problem {
   // in 3D.
   Rot rolling_velocity(std::size_t a) const {
     const std::uint32_t i = c_.i[a], j = c_.partner[a];
-    Rot spin_rel = c_.wall[a] ? p_.w[i] : Rot(p_.w[i] - p_.w[j]);
+    Rot spin_rel = c_.wall[a] ? p_.omega[i] : Rot(p_.omega[i] - p_.omega[j]);
     if constexpr (D == 3) spin_rel -= spin_rel.dot(c_.frame[a].col(0)) * c_.frame[a].col(0);
     return spin_rel;
   }
@@ -117,8 +117,8 @@ class CdSolver<D>::Problem {
   void apply_couple(std::size_t a, const Rot& dm) {
     const std::uint32_t i = c_.i[a], j = c_.partner[a];
     c_.m[a] += dm;
-    p_.w[i] += p_.inv_inertia[i] * dm;
-    if (!c_.wall[a]) p_.w[j] -= p_.inv_inertia[j] * dm;
+    p_.omega[i] += p_.inv_inertia[i] * dm;
+    if (!c_.wall[a]) p_.omega[j] -= p_.inv_inertia[j] * dm;
   }
 
  private:
@@ -244,7 +244,7 @@ void CdSolver<D>::step() {
     for (std::size_t k = 0; k < p.size(); ++k) {
       if (p.inv_mass[k] == 0.0) continue;
       p.x[k] += h * p.v[k];
-      if (world_.track_orientation) p.q[k] = S::rotate(p.q[k], p.w[k], h);
+      if (world_.track_orientation) p.q[k] = S::rotate(p.q[k], p.omega[k], h);
     }
     for (auto& wall : world_.walls) wall.point += h * wall.velocity;
   }
@@ -291,7 +291,7 @@ double CdSolver<D>::max_speed() const {
   const auto& p = world_.particles;
   double vmax = 0.0;
   for (std::size_t k = 0; k < p.size(); ++k)
-    vmax = std::max(vmax, p.v[k].norm() + p.radius[k] * std::sqrt(Space<D>::rot_norm2(p.w[k])));
+    vmax = std::max(vmax, p.v[k].norm() + p.radius[k] * std::sqrt(Space<D>::rot_norm2(p.omega[k])));
   return vmax;
 }
 

@@ -33,11 +33,11 @@ struct ParticleStore {
   using Rot = typename S::Rot;
 
   // --- hot: touched every step
-  std::vector<Vec> x;  // centre position (m)
-  std::vector<Vec> v;  // velocity (m/s)
-  std::vector<Rot> w;  // angular velocity (rad/s)
-  std::vector<Vec> f;  // force (N)
-  std::vector<Rot> t;  // torque (N m)
+  std::vector<Vec> x;      // centre position (m)
+  std::vector<Vec> v;      // velocity (m/s)
+  std::vector<Rot> omega;  // angular velocity (rad/s)
+  std::vector<Vec> f;      // force (N)
+  std::vector<Rot> t;      // torque (N m)
   std::vector<double> radius;
   std::vector<double> inv_mass;     // 0 for fixed grains
   std::vector<double> inv_inertia;  // 0 for fixed grains
@@ -59,7 +59,7 @@ struct ParticleStore {
   void for_each_array(Visit&& visit) {
     visit(x);
     visit(v);
-    visit(w);
+    visit(omega);
     visit(f);
     visit(t);
     visit(radius);
@@ -83,7 +83,7 @@ struct ParticleStore {
     const double m = grain_mass(r, density, thickness);
     x.push_back(pos);
     v.push_back(S::zero());
-    w.push_back(S::zero_rot());
+    omega.push_back(S::zero_rot());
     f.push_back(S::zero());
     t.push_back(S::zero_rot());
     radius.push_back(r);

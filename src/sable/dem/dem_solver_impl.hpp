@@ -459,7 +459,7 @@ typename DemSolver<D, Laws>::PairPass DemSolver<D, Laws>::make_pair_pass() {
   auto& pl = world_.neighbors.pairs;
   return {p.x.data(),
           p.v.data(),
-          p.w.data(),
+          p.omega.data(),
           p.radius.data(),
           p.inv_mass.data(),
           p.material.data(),

@@ -61,7 +61,7 @@ typename DemSolver<D, Laws>::GrainPass DemSolver<D, Laws>::make_grain_pass(doubl
   return {p.x.data(),
           p.v.data(),
           p.q.data(),
-          p.w.data(),
+          p.omega.data(),
           p.f.data(),
           p.t.data(),
           p.inv_mass.data(),
@@ -291,7 +291,8 @@ void DemSolver<D, Laws>::wall_contact(std::size_t k, double& max_ratio, std::siz
     return;
   }
   // The lever arm is -(R_i - delta/2) n (see PairPass::touch).
-  g.vrel = p.v[i] - wall.velocity - S::spin_velocity((p.radius[i] - 0.5 * g.delta) * p.w[i], g.n);
+  g.vrel =
+      p.v[i] - wall.velocity - S::spin_velocity((p.radius[i] - 0.5 * g.delta) * p.omega[i], g.n);
   g.r_eff = p.radius[i];
   g.m_eff = p.mass[i];
   const PairParams& pp = world_.materials.pair(p.material[i], wall.material);
@@ -300,7 +301,7 @@ void DemSolver<D, Laws>::wall_contact(std::size_t k, double& max_ratio, std::siz
   wall_moment_[k] = S::moment(g.n, f);
   wall_delta_[k] = g.delta;
   if (rolling)  // the wall does not turn: the relative spin is the grain's
-    wall_roll_[k] = rolling_couple<D, Normal>(g, pp, world_.model, world_.dt, f, p.w[i],
+    wall_roll_[k] = rolling_couple<D, Normal>(g, pp, world_.model, world_.dt, f, p.omega[i],
                                               roll_inv_ic_[i], 0.0, wl.roll[k]);
   max_ratio = std::max(max_ratio, g.delta / p.radius[i]);
   ++touching;

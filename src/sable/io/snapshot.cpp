@@ -103,7 +103,7 @@ template <int D>
 void write_particles(h5::File& f, const ParticleStore<D>& p) {
   write_rows(f, "/particles/x", p.x);
   write_rows(f, "/particles/v", p.v);
-  write_rows(f, "/particles/w", p.w);
+  write_rows(f, "/particles/w", p.omega);
   write_rows(f, "/particles/f", p.f);
   write_rows(f, "/particles/t", p.t);
   write_rows(f, "/particles/q", p.q);
@@ -277,7 +277,7 @@ ParticleStore<D> read_particles(const h5::File& f, std::size_t materials) {
   const auto n = static_cast<hsize_t>(p.size());
   const std::string why = "one per grain, as '/particles/x'";
   p.v = read_rows<typename S::Vec>(f, "/particles/v", n, why);
-  p.w = read_rows<typename S::Rot>(f, "/particles/w", n, why);
+  p.omega = read_rows<typename S::Rot>(f, "/particles/w", n, why);
   p.f = read_rows<typename S::Vec>(f, "/particles/f", n, why);
   p.t = read_rows<typename S::Rot>(f, "/particles/t", n, why);
   p.q = read_rows<typename S::Orientation>(f, "/particles/q", n, why);

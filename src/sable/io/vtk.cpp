@@ -215,7 +215,7 @@ void write_grains_vtp(const World<D>& world, const std::string& path) {
   const auto vec3 = [](const auto& v) {
     return [&v](std::size_t k) { return S::to_array(v[k / 3])[k % 3]; };
   };
-  const auto spin3 = [&](std::size_t k) { return S::rot_to_array(p.w[k / 3])[k % 3]; };
+  const auto spin3 = [&](std::size_t k) { return S::rot_to_array(p.omega[k / 3])[k % 3]; };
   write_pieces_atomic(path, [&](const PutText& put) {
     Sink s(put);
     begin_piece(s, {n, n, 0, 0});

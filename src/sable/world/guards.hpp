@@ -29,7 +29,7 @@ template <int D>
 template <int D>
 bool grain_state_ok(const World<D>& w, std::size_t k) {
   const auto& p = w.particles;
-  return motion_ok<D>(p.v[k], p.w[k], w.max_speed) && position_ok<D>(p.x[k]);
+  return motion_ok<D>(p.v[k], p.omega[k], w.max_speed) && position_ok<D>(p.x[k]);
 }
 
 // Throws SimulationError naming the step and the first offending grain (by stable id). The
@@ -48,7 +48,7 @@ void check_grain_states(const World<D>& w) {
     if (grain_state_ok(w, k)) continue;
     const double v2 = p.v[k].squaredNorm();
     const bool finite =
-        std::isfinite(v2) && std::isfinite(Space<D>::rot_norm2(p.w[k])) && p.x[k].allFinite();
+        std::isfinite(v2) && std::isfinite(Space<D>::rot_norm2(p.omega[k])) && p.x[k].allFinite();
     throw SimulationError(fmt::format(
         "step {}: grain id {} has {} (speed {:.4g} m/s, max_speed {:.4g} m/s); the time step "
         "may be too large for the contact stiffness, or grains were inserted overlapping",

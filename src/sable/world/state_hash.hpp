@@ -44,7 +44,7 @@ std::uint64_t state_hash(const World<D>& w) {
   const auto& p = w.particles;
   hash_dense(h, p.x);
   hash_dense(h, p.v);
-  hash_dense(h, p.w);
+  hash_dense(h, p.omega);
   hash_dense(h, p.f);
   hash_dense(h, p.t);
   hash_dense(h, p.radius);

@@ -76,8 +76,8 @@ double kinetic_energy(const World<D>& w, bool translation_only = false) {
     if (p.fixed(k)) continue;
     e += 0.5 * p.mass[k] * p.v[k].squaredNorm();
     if (translation_only) continue;
-    e +=
-        0.5 * (p.inv_inertia[k] > 0.0 ? 1.0 / p.inv_inertia[k] : 0.0) * Space<D>::rot_norm2(p.w[k]);
+    e += 0.5 * (p.inv_inertia[k] > 0.0 ? 1.0 / p.inv_inertia[k] : 0.0) *
+         Space<D>::rot_norm2(p.omega[k]);
   }
   return e;
 }
