@@ -7,7 +7,7 @@ packages=(
   cmake ninja-build g++ pkg-config git
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev libhdf5-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-numpy python3-matplotlib clang-format
+  python3 python3-numpy python3-matplotlib clang-format clang-tidy
   # examples/silo-janssen/wall_contacts.py reads snapshots from Python.
   python3-h5py
   # The sanitizer builds, the fuzz targets and ThreadSanitizer (docs/reliability.md): clang,

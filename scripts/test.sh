@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Quick start, command 2: install what is missing, build with warnings as errors, check the
-# formatting, and run every test: unit + validation (Release), then the unit tests again under
-# AddressSanitizer + UndefinedBehaviorSanitizer, then each fuzz target for 60 s.
+# Quick start, command 2: install what is missing, check the formatting and clang-tidy's checks,
+# build with warnings as errors, and run every test: unit + validation (Release), then the unit
+# tests again under AddressSanitizer + UndefinedBehaviorSanitizer, then each fuzz target for 60 s.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -9,6 +9,9 @@ bash scripts/setup.sh
 echo "== clang-format"
 files=$(git ls-files '*.cpp' '*.hpp' 2>/dev/null || find src apps tests bench -name '*.[ch]pp')
 clang-format --dry-run --Werror $files
+
+echo "== clang-tidy: the checks of .clang-tidy (docs/reliability.md, Static checks)"
+bash scripts/tidy.sh
 
 echo "== layers: every include points down (docs/ARCHITECTURE.md, Layers)"
 /usr/bin/python3 scripts/check_layers.py

@@ -427,7 +427,7 @@ Sample<2> grid() {
 TEST(AnalysisPercolation, ColumnSpansYNotX2D) {
   const auto s = grid();
   std::vector<double> v(25, -1.0);
-  for (int iy = 0; iy < 5; ++iy) v[static_cast<std::size_t>(5 * iy + 2)] = 2.0;
+  for (std::size_t iy = 0; iy < 5; ++iy) v[5 * iy + 2] = 2.0;
   const auto p = sable::percolation(s, v);
   // Default slab = the largest diameter, 1: columns 0-1 touch the low x face, 3-4 the high.
   EXPECT_DOUBLE_EQ(p.slab, 1.0);  // 2 * 0.5, exact

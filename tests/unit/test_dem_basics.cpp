@@ -65,10 +65,10 @@ TEST(DemBasics, MovingWallPushesGrain) {
   sable::DemSolver<3> s(w);
   s.initialize();
   double mean_v = 0.0;
-  const int n = 200000;
+  const int n = 200000, half = n / 2;
   for (int k = 0; k < n; ++k) {
     s.step();
-    if (k >= n / 2) mean_v += w.particles.v[0].z() / (n / 2);
+    if (k >= half) mean_v += w.particles.v[0].z() / half;
   }
   EXPECT_NEAR(mean_v, 0.01, 1e-4);  // 1 % of the wall speed: transient residue
   EXPECT_NEAR(w.walls[0].point.z(), 0.01 * n * w.dt, 1e-12);

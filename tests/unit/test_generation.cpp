@@ -101,7 +101,7 @@ class GenerationFiles : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string write(const std::string& name, const std::string& text) const {
-    const std::string p = (dir_ / name).string();
+    std::string p = (dir_ / name).string();
     std::ofstream(p) << text;
     return p;
   }
@@ -120,8 +120,9 @@ TEST(GenerationLattice, SitesInOrder3D) {
   const auto g = sable::generate_grains(lattice_block(lo, hi, r, s, count), 3, 7, {});
   ASSERT_EQ(g.size(), count);
   for (std::size_t m = 0; m < g.size(); ++m) {
+    const std::size_t layer = m / 12;  // 4 x 3 sites a layer
     const double i = static_cast<double>(m % 4), j = static_cast<double>((m / 4) % 3),
-                 k = static_cast<double>(m / 12);
+                 k = static_cast<double>(layer);
     EXPECT_NEAR(g[m].x[0], lo[0] + (i + 0.5) * s, 1e-12) << "grain " << m;
     EXPECT_NEAR(g[m].x[1], lo[1] + (j + 0.5) * s, 1e-12) << "grain " << m;
     EXPECT_NEAR(g[m].x[2], lo[2] + (k + 0.5) * s, 1e-12) << "grain " << m;
@@ -138,7 +139,8 @@ TEST(GenerationLattice, SitesInOrder2D) {
   const auto g = sable::generate_grains(lattice_block(lo, hi, r, s, 30), 2, 7, {});
   ASSERT_EQ(g.size(), 30u);
   for (std::size_t m = 0; m < g.size(); ++m) {
-    const double i = static_cast<double>(m % 6), j = static_cast<double>(m / 6);
+    const std::size_t row = m / 6;  // 6 sites a row
+    const double i = static_cast<double>(m % 6), j = static_cast<double>(row);
     EXPECT_NEAR(g[m].x[0], lo[0] + (i + 0.5) * s, 1e-12) << "grain " << m;
     EXPECT_NEAR(g[m].x[1], lo[1] + (j + 0.5) * s, 1e-12) << "grain " << m;
     EXPECT_EQ(g[m].x[2], 0.0) << "grain " << m;

@@ -257,9 +257,9 @@ TEST_F(IoTest, VtkFilesParseWithMatchingCounts3D) {
 TEST_F(IoTest, VtkFileWrittenInPiecesIsWhole) {
   SABLE_NEEDS(fs::exists("/usr/bin/python3"), "needs /usr/bin/python3");
   World<3> w = make_world<3>();
-  for (int k = 0; k < 8000; ++k)
-    w.particles.add(Eigen::Vector3d(0.001 * (k % 100), 0.001 * (k / 100), 0.2), kR, 2500.0, 0,
-                    w.thickness);
+  for (int row = 0; row < 80; ++row)
+    for (int col = 0; col < 100; ++col)
+      w.particles.add(Eigen::Vector3d(0.001 * col, 0.001 * row, 0.2), kR, 2500.0, 0, w.thickness);
   const std::size_t n = w.particles.size();
   sable::write_grains_vtp(w, path("big.vtp"));
   EXPECT_GT(fs::file_size(path("big.vtp")), 4u * 65536u) << "the test must span several pieces";
@@ -574,7 +574,7 @@ TEST_F(IoTest, BadRollingSpringsNameTheDataset) {
     const std::string file = path(name);
     fs::copy_file(good, file);
     write_doubles(file, dataset, rows, 3, values);
-    const std::string msg = load_error(file, w);
+    std::string msg = load_error(file, w);
     EXPECT_TRUE(contains(msg, file));
     EXPECT_EQ(sable::state_hash(w), before) << name;
     return msg;

@@ -59,7 +59,7 @@ class SnapshotBounds : public ::testing::Test {
 
   // A copy of the good snapshot, to damage.
   std::string copy(const std::string& name) const {
-    const std::string p = (dir_ / name).string();
+    std::string p = (dir_ / name).string();
     fs::copy_file(good_, p, fs::copy_options::overwrite_existing);
     return p;
   }

@@ -181,7 +181,7 @@ std::string run_analysis(const AnalyzeOptions& opt, const SampleLoaders& loaders
   for (const auto& s : opt.snapshots)
     if (snapshot_dimension(s) != dim)
       throw InputError(fmt::format("{}: a {}D snapshot among {}D ones", s, 5 - dim, dim));
-  const std::string out_dir = default_out_dir(opt);
+  std::string out_dir = default_out_dir(opt);
   if (dim == 2)
     analyze<2>(opt, out_dir, loaders);
   else

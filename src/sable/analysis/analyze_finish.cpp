@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <limits>
 
 #include "sable/analysis/analyze_parts.hpp"
@@ -128,7 +129,7 @@ void AnalysisParts<D>::finish_stress() {
   m.gravity /= n;
   m.inertia /= n;
   m.volume /= n;
-  m.grains = static_cast<std::size_t>(static_cast<double>(m.grains) / n + 0.5);
+  m.grains = static_cast<std::size_t>(std::llround(static_cast<double>(m.grains) / n));
   Summary s = mean_stress_summary(m, Tensor<D>(love_weber_sum_ / n));
   s.add("averaged_over", samples_);
   summary_.add("stress", s);

@@ -23,6 +23,7 @@ template <int D>
 // samples in it).
 template <int D>
 [[gnu::always_inline]] inline bool position_ok(const typename Space<D>::Vec& x) {
+  // NOLINTNEXTLINE(misc-redundant-expression): x - x is the finiteness test described above.
   return (x - x).squaredNorm() == 0.0;
 }
 
