@@ -12,12 +12,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# FILE:CHECK findings in files that another change is rewriting, to be fixed there.
-KNOWN=(
-  src/sable/dem/dem_solver.cpp:performance-no-automatic-move
-  src/sable/dem/grain_loops.cpp:performance-unnecessary-copy-initialization
-  src/sable/scenario/parse.cpp:performance-no-automatic-move
-)
+# FILE:CHECK findings tolerated for now, each with its reason (none today).
+KNOWN=()
 
 t0=$(date +%s)
 cmake --preset release >/dev/null

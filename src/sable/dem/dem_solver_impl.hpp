@@ -266,8 +266,8 @@ struct DemSolver<D, Laws>::PairPass {
   [[gnu::always_inline]] Rot rolling_couple(std::size_t k, std::uint32_t a, std::uint32_t b,
                                             const ContactGeometry<D>& g, const PairParams& pp,
                                             const Vec& f) const {
-    const Rot m = sable::rolling_couple<D, Normal>(g, pp, model, dt, f, Rot(omega[a] - omega[b]),
-                                                   inv_ic[a], inv_ic[b], roll[k]);
+    Rot m = sable::rolling_couple<D, Normal>(g, pp, model, dt, f, Rot(omega[a] - omega[b]),
+                                             inv_ic[a], inv_ic[b], roll[k]);
     couple[k] = m;
     return m;
   }

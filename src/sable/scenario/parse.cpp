@@ -149,7 +149,7 @@ void check_material_name(const toml::node& node, const std::string& key, const s
 }
 
 std::string material_ref(const Table& t, const std::vector<MaterialConfig>& materials) {
-  const std::string name = t.required_string("material");
+  std::string name = t.required_string("material");
   check_material_name(*t.find("material"), t.key_path("material"), t.file(), name, materials);
   return name;
 }
