@@ -94,6 +94,12 @@ TEST(LawRegistry, ATableFindsItsLawsByNameAndRow) {
     EXPECT_EQ(TestLaws::visit(NormalModel{row}, []<class Law>() { return Law::kName; }),
               TestLaws::kNames[row]);
   EXPECT_THROW(TestLaws::visit(NormalModel{3}, []<class Law>() { return 0; }), std::out_of_range);
+  // `sable models` for this table lists the added law with its summary.
+  const auto rows = sub_model_rows<TestLaws>();
+  EXPECT_EQ(rows[2].category, "normal");
+  EXPECT_EQ(rows[2].name, HookeNormal::kName);
+  EXPECT_EQ(rows[2].summary, HookeNormal::kSummary);
+  EXPECT_FALSE(HookeNormal::kSpringConstants);  // so contact.kn and kt would be refused
 }
 
 // The added law drives a whole DEM collision through DemSolver<3, TestLaws>. For an undamped
