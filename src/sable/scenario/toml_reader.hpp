@@ -17,9 +17,15 @@
 #include <string_view>
 #include <vector>
 
+#include "sable/core/error.hpp"
 #include "sable/scenario/config.hpp"
 
 namespace sable::detail {
+
+// A name or path read from the input, quoted in a message (clipped: see sable::clip).
+inline std::string in_quotes(const std::string& s) {
+  return "\"" + clip(s) + "\"";
+}
 
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
