@@ -34,8 +34,9 @@ sable::World<3> dense_bed(int n, bool shuffled = false) {
       sable::Wall<3> wall;
       wall.point = Eigen::Vector3d::Zero();
       wall.point[d] = side == 0 ? 0.0 : n * s;
-      wall.normal = Eigen::Vector3d::Zero();
-      wall.normal[d] = side == 0 ? 1.0 : -1.0;
+      Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+      normal[d] = side == 0 ? 1.0 : -1.0;
+      wall.set_plane(normal);
       w.walls.push_back(wall);
     }
   w.neighbors.skin = 0.5e-3;

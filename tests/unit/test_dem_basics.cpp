@@ -59,7 +59,7 @@ TEST(DemBasics, MovingWallPushesGrain) {
   w.gravity = {0, 0, -9.81};
   sable::Wall<3> floor;
   floor.point = Eigen::Vector3d(0, 0, 0);
-  floor.normal = Eigen::Vector3d(0, 0, 1);
+  floor.set_plane(Eigen::Vector3d(0, 0, 1));
   floor.velocity = Eigen::Vector3d(0, 0, 0.01);
   w.walls.push_back(floor);
   sable::DemSolver<3> s(w);
@@ -92,7 +92,7 @@ TEST(DemBasics, OrientationTrackingChangesNothingElse) {
     w.gravity = {0, 0, -9.81};
     sable::Wall<3> floor;
     floor.point = Eigen::Vector3d(0, 0, 0);
-    floor.normal = Eigen::Vector3d(0, 0, 1);
+    floor.set_plane(Eigen::Vector3d(0, 0, 1));
     w.walls.push_back(floor);
     sable::DemSolver<3> s(w);
     s.initialize();
@@ -134,7 +134,7 @@ std::size_t run_lattice_bed(sable::World<3>& w, int threads, double spacing = 1.
   w.gravity = {0, 0, -9.81};
   sable::Wall<3> floor;
   floor.point = Eigen::Vector3d(0, 0, -0.004);
-  floor.normal = Eigen::Vector3d(0, 0, 1);
+  floor.set_plane(Eigen::Vector3d(0, 0, 1));
   w.walls.push_back(floor);
   const int before = omp_get_max_threads();
   omp_set_num_threads(threads);
@@ -280,9 +280,8 @@ TEST(DemBasics, CylinderWallContainsGrain) {
   w.particles.add({0, 0, 0}, r, 2500.0, 0, 1.0);
   w.particles.v[0] = Eigen::Vector3d(0.3, 0.2, 0.0);
   sable::Wall<3> cyl;
-  cyl.kind = sable::WallKind::kCylinderInside;
   cyl.point = Eigen::Vector3d(0, 0, 0);
-  cyl.radius = rc;
+  cyl.set_cylinder(rc);
   w.walls.push_back(cyl);
   sable::DemSolver<3> s(w);
   s.initialize();

@@ -107,26 +107,25 @@ void add_walls(World<D>& w) {
   sable::Wall<D> floor;
   floor.name = "floor";
   floor.material = 1;
-  floor.normal = Vec::Unit(D - 1);
+  floor.set_plane(Vec::Unit(D - 1));
   w.walls.push_back(floor);
   sable::Wall<D> ramp;  // tilted and moving: exercises wall_ref and the clipping code
   ramp.name = "ramp";
   ramp.material = 1;
   ramp.point = Vec::Constant(0.0);
   ramp.point[0] = 0.12;
-  ramp.normal = Vec::Constant(0.3);
-  ramp.normal[0] = -1.0;
-  ramp.normal.normalize();
+  Vec ramp_normal = Vec::Constant(0.3);
+  ramp_normal[0] = -1.0;
+  ramp.set_plane(ramp_normal.normalized());
   ramp.velocity = Vec::Zero();
   ramp.velocity[0] = -0.05;
   w.walls.push_back(ramp);
   if constexpr (D == 3) {
     sable::Wall<D> drum;
     drum.name = "drum";
-    drum.kind = sable::WallKind::kCylinderInside;
     drum.material = 1;
     drum.point = Vec(0.05, 0.05, 0.0);
-    drum.radius = 0.08;
+    drum.set_cylinder(0.08);
     w.walls.push_back(drum);
   }
 }

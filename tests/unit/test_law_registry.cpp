@@ -152,7 +152,7 @@ TEST(LawRegistry, CriticalTimeAndServoStiffnessComeFromTheRow) {
   Wall<3> floor;
   floor.name = "floor";
   floor.point.setZero();
-  floor.normal = Space<3>::Vec(0, 0, 1);
+  floor.set_plane(Space<3>::Vec(0, 0, 1));
   floor.material = mi;
   f.walls.push_back(floor);
   f.particles.add(Space<3>::Vec(0, 0, kRadius - 1e-6), kRadius, kDensity, mi, 1.0);

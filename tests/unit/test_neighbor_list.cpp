@@ -70,9 +70,8 @@ std::vector<Pair> list_wall_pairs(const sable::WallPairList<D>& l) {
 template <int D>
 sable::Wall<D> plane(const Vec<D>& point, const Vec<D>& normal) {
   sable::Wall<D> w;
-  w.kind = sable::WallKind::kPlane;
   w.point = point;
-  w.normal = normal.normalized();
+  w.set_plane(normal.normalized());
   return w;
 }
 
@@ -214,9 +213,8 @@ TEST(NeighborList, WallPairsMatchBruteForce) {
   auto walls3 = unit_box_walls<3>();
   walls3.push_back(plane<3>(Vec<3>(0.5, 0.5, 0.5), Vec<3>(1.0, -2.0, 0.5)));
   sable::Wall<3> cyl;
-  cyl.kind = sable::WallKind::kCylinderInside;
   cyl.point = Vec<3>(0.5, 0.45, 0.0);
-  cyl.radius = 0.45;
+  cyl.set_cylinder(0.45);
   walls3.push_back(cyl);
   sable::NeighborList<3> nl3;
   nl3.skin = skin;

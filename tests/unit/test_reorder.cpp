@@ -146,9 +146,9 @@ World<D> shuffled_bed(int side, int layers, double v) {
   w.reorder_every = 0;  // each test says when it sorts
   Wall<D> floor, left;
   floor.point = Vec::Constant(-0.004);
-  floor.normal = Vec::Unit(D - 1);
+  floor.set_plane(Vec::Unit(D - 1));
   left.point = Vec::Constant(-0.004 - 0.98 * r);  // the first column overlaps it by 2 %
-  left.normal = Vec::Unit(0);
+  left.set_plane(Vec::Unit(0));
   w.walls = {floor, left};
   return w;
 }

@@ -17,7 +17,6 @@ using sable::Material;
 using sable::MaterialTable;
 using sable::ParticleId;
 using sable::Wall;
-using sable::WallKind;
 
 // ---------------------------------------------------------------- walls
 
@@ -26,15 +25,14 @@ using sable::WallKind;
 // plane's. 1e-14 absolute: a few roundings of O(1) products.
 TEST(WallsDistance, TiltedPlane3D) {
   Wall<3> w;
-  w.kind = WallKind::kPlane;
   w.point = Eigen::Vector3d(1.0, 2.0, 3.0);
-  w.normal = Eigen::Vector3d(1.0, -2.0, 2.0) / 3.0;            // unit
+  w.set_plane(Eigen::Vector3d(1.0, -2.0, 2.0) / 3.0);          // unit
   const Eigen::Vector3d t1(2.0, 1.0, 0.0), t2(0.0, 1.0, 1.0);  // both orthogonal to the normal
   Eigen::Vector3d n;
   for (double h : {0.7, -0.25, 0.0}) {
-    const Eigen::Vector3d x = w.point + h * w.normal + 0.3 * t1 - 1.1 * t2;
+    const Eigen::Vector3d x = w.point + h * w.normal() + 0.3 * t1 - 1.1 * t2;
     EXPECT_NEAR(w.distance(x, n), h, 1e-14);
-    EXPECT_NEAR((n - w.normal).norm(), 0.0, 1e-15);
+    EXPECT_NEAR((n - w.normal()).norm(), 0.0, 1e-15);
   }
 }
 
@@ -43,9 +41,8 @@ TEST(WallsDistance, TiltedPlane3D) {
 // is a deterministic unit vector. 1e-14 absolute: rounding of rho and of cos/sin products.
 TEST(WallsDistance, CylinderInside) {
   Wall<3> w;
-  w.kind = WallKind::kCylinderInside;
   w.point = Eigen::Vector3d(1.0, -2.0, 5.0);
-  w.radius = 3.0;
+  w.set_cylinder(3.0);
   Eigen::Vector3d n;
   for (double rho : {0.5, 2.9, 3.0, 3.4}) {
     for (double a : {0.0, 0.9, 2.5, -1.7}) {
@@ -66,14 +63,13 @@ TEST(WallsDistance, CylinderInside) {
 // absolute: a few roundings of O(1) products.
 TEST(WallsDistance, Plane2D) {
   Wall<2> w;
-  w.kind = WallKind::kPlane;
   w.point = Eigen::Vector2d(0.5, -1.0);
-  w.normal = Eigen::Vector2d(-3.0, 4.0) / 5.0;
+  w.set_plane(Eigen::Vector2d(-3.0, 4.0) / 5.0);
   const Eigen::Vector2d t(4.0, 3.0);  // along the line
   Eigen::Vector2d n;
   for (double h : {1.5, -0.4}) {
-    EXPECT_NEAR(w.distance(w.point + h * w.normal + 0.2 * t, n), h, 1e-14);
-    EXPECT_NEAR((n - w.normal).norm(), 0.0, 1e-15);
+    EXPECT_NEAR(w.distance(w.point + h * w.normal() + 0.2 * t, n), h, 1e-14);
+    EXPECT_NEAR((n - w.normal()).norm(), 0.0, 1e-15);
   }
   EXPECT_NEAR(w.distance(Eigen::Vector2d(0.0, 0.0), n), (-0.5 * -3.0 + 1.0 * 4.0) / 5.0, 1e-15);
 }

@@ -61,9 +61,8 @@ Wall<D> make_plane(const typename Space<D>::Vec& point, const typename Space<D>:
                    MaterialIndex material) {
   Wall<D> wall;
   wall.name = "plane";
-  wall.kind = WallKind::kPlane;
   wall.point = point;
-  wall.normal = normal.normalized();
+  wall.set_plane(normal.normalized());
   wall.material = material;
   return wall;
 }

@@ -114,7 +114,7 @@ void expect_compacted(const std::string& text, const std::filesystem::path& dir,
     for (std::size_t c = 0; c < wl.size(); ++c)
       if (wl.wall[c] == k) on_wall -= wl.force[c];
     const double area = box / extent[axis];
-    const double stress = -on_wall.dot(w.walls[k].normal) / area;
+    const double stress = -on_wall.dot(w.walls[k].normal()) / area;
     EXPECT_NEAR(stress, pressure, tolerance * pressure) << w.walls[k].name;
     EXPECT_NEAR(stress, wall_normal_stress(w, k), 1e-9 * pressure) << w.walls[k].name;
   }

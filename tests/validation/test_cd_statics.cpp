@@ -29,7 +29,7 @@ void add_plane(sable::World<D>& w, typename sable::Space<D>::Vec point,
                typename sable::Space<D>::Vec normal) {
   sable::Wall<D> wall;
   wall.point = point;
-  wall.normal = normal.normalized();
+  wall.set_plane(normal.normalized());
   w.walls.push_back(wall);
 }
 

@@ -144,11 +144,11 @@ Sample<D> make_sample(const World<D>& w, ForceGeometry geometry) {
   for (const auto& wall : w.walls) {
     SampleWall sw;
     sw.name = wall.name;
-    sw.plane = wall.kind == WallKind::kPlane;
+    sw.plane = wall.plane() != nullptr;
     sw.point = S::to_array(wall.point);
-    sw.normal = S::to_array(wall.normal);
+    sw.normal = S::to_array(wall.normal());
     sw.force = S::to_array(wall.force);
-    sw.radius = wall.radius;
+    if (const auto* c = std::get_if<CylinderShape<D>>(&wall.shape)) sw.radius = c->radius;
     s.walls.push_back(sw);
   }
   s.gravity = w.gravity;

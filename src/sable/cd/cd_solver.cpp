@@ -56,8 +56,8 @@ class CdSolver<D>::Problem {
       // the solution: a contact is solved when its local solve returns dr = 0 from the U it
       // sees, whatever W_aa; W_aa only sets how fast the sweeps get there.
       Wall<D>& wall = walls_[j];
-      dofs_[j].impulse -= impulse.dot(wall.normal);
-      wall.velocity = dofs_[j].speed() * wall.normal;
+      dofs_[j].impulse -= impulse.dot(wall.normal());
+      wall.velocity = dofs_[j].speed() * wall.normal();
     }
   }
 
@@ -246,7 +246,7 @@ void CdSolver<D>::step() {
       p.x[k] += h * p.v[k];
       if (world_.track_orientation) p.q[k] = S::rotate(p.q[k], p.omega[k], h);
     }
-    for (auto& wall : world_.walls) wall.point += h * wall.velocity;
+    for (auto& wall : world_.walls) wall.advance(h);
   }
   world_.time += h;
   ++world_.step;
@@ -260,8 +260,7 @@ template <int D>
 void CdSolver<D>::set_wall_bodies(const std::vector<WallBody>& bodies) {
   dofs_.assign(bodies.empty() ? 0 : world_.walls.size(), WallDof{});
   for (const WallBody& b : bodies) {
-    if (b.wall >= world_.walls.size() || world_.walls[b.wall].kind != WallKind::kPlane ||
-        !(b.mass > 0.0))
+    if (b.wall >= world_.walls.size() || !world_.walls[b.wall].plane() || !(b.mass > 0.0))
       throw InputError(fmt::format(
           "wall body {}: a plane wall with a mass > 0 is needed (mass {} kg)", b.wall, b.mass));
     WallDof& d = dofs_[b.wall];
@@ -280,9 +279,9 @@ void CdSolver<D>::start_wall_bodies() {
     WallDof& d = dofs_[k];
     if (d.inv_mass == 0.0) continue;
     Wall<D>& wall = world_.walls[k];
-    d.free_speed = wall.velocity.dot(wall.normal) + world_.dt * d.force * d.inv_mass;
+    d.free_speed = wall.velocity.dot(wall.normal()) + world_.dt * d.force * d.inv_mass;
     d.impulse = 0.0;
-    wall.velocity = d.speed() * wall.normal;
+    wall.velocity = d.speed() * wall.normal();
   }
 }
 
@@ -313,7 +312,7 @@ void CdSolver<D>::add_contact(std::uint32_t i, std::uint32_t partner, std::uint3
             S::spin_velocity(p.inv_inertia[partner] * S::moment(arm_j, P), arm_j);
     if constexpr (kWall) {
       if (is_body(partner)) {  // a wall body recoils along its normal only
-        const Vec& nw = world_.walls[partner].normal;
+        const Vec nw = world_.walls[partner].normal();
         dv += dofs_[partner].inv_mass * nw.dot(P) * nw;
       }
     }

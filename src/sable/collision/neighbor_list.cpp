@@ -3,6 +3,8 @@
 #include <omp.h>
 #include <algorithm>
 #include <cmath>
+#include <tuple>
+#include <utility>
 
 #include "sable/core/grow.hpp"
 #include "sable/core/parallel.hpp"
@@ -32,11 +34,14 @@ bool NeighborList<D>::needs_rebuild(const ParticleStore<D>& p, const std::vector
 template <int D>
 bool NeighborList<D>::needs_rebuild_after(double max_d2, const std::vector<Wall<D>>& walls,
                                           double margin) const {
-  if (max_d2 < 0.0 || wall_ref.size() != walls.size()) return true;
-  double max_w2 = 0.0;
+  if (max_d2 < 0.0 || wall_ref.size() != walls.size() || wall_ref_turn.size() != walls.size())
+    return true;
+  // The largest distance any wall surface moved (a turning body's far end moves fastest);
+  // for walls that only translate, exactly the largest shift of their points.
+  double dw = 0.0;
   for (std::size_t w = 0; w < walls.size(); ++w)
-    max_w2 = std::max(max_w2, (walls[w].point - wall_ref[w]).squaredNorm());
-  const double dp = std::sqrt(max_d2) + margin, dw = std::sqrt(max_w2);
+    dw = std::max(dw, walls[w].moved_since(wall_ref[w], wall_ref_turn[w], domain_lo, domain_hi));
+  const double dp = std::sqrt(max_d2) + margin;
   // Two grains close in by at most 2 dp; a grain and a wall by at most dp + dw.
   return 2.0 * dp >= skin || dp + dw >= skin;
 }
@@ -169,37 +174,113 @@ void NeighborList<D>::build_pairs(const ParticleStore<D>& p, PairList<D>& out) {
   if (rolling) assign_ahead(out.roll, out.size(), Space<D>::zero_rot());
 }
 
+// The cell coordinates of x, clamped into the grid (as build_cells places the grains).
+template <int D>
+std::array<int, D> NeighborList<D>::cell_coords(const Vec& x) const {
+  std::array<int, D> c;
+  for (int d = 0; d < D; ++d) {
+    const double q = std::floor((x[d] - domain_lo[d]) / cell_size_);
+    c[d] = q > 0.0 ? (q < ncell_[d] - 1.0 ? static_cast<int>(q) : ncell_[d] - 1) : 0;
+  }
+  return c;
+}
+
+// A bounded wall's elements binned in the grains' cells: each element in every cell its box,
+// grown by `reach`, overlaps (clamped into the grid like the grains, so a grain within reach
+// of an element finds it in its own cell). Ascending elements within a cell.
+template <int D>
+void NeighborList<D>::bin_elements(const Wall<D>& wall, double reach) {
+  const auto& mesh = *wall.mesh();
+  std::size_t total = 1;
+  for (int d = 0; d < D; ++d) total *= static_cast<std::size_t>(ncell_[d]);
+  element_start_.assign(total + 1, 0);
+  auto for_cells = [&](std::uint32_t e, auto&& f) {
+    Vec lo, hi;
+    mesh.element_box(e, lo, hi);
+    const auto a = cell_coords((lo.array() - reach).matrix());
+    const auto b = cell_coords((hi.array() + reach).matrix());
+    std::array<int, D> c = a;
+    for (;;) {
+      std::size_t index = 0;
+      for (int d = D - 1; d >= 0; --d)
+        index = index * static_cast<std::size_t>(ncell_[d]) + static_cast<std::size_t>(c[d]);
+      f(index);
+      int d = 0;
+      while (d < D && c[d] == b[d]) c[d] = a[d], ++d;
+      if (d == D) break;
+      ++c[d];
+    }
+  };
+  for (std::uint32_t e = 0; e < mesh.elements(); ++e)
+    for_cells(e, [&](std::size_t c) { ++element_start_[c + 1]; });
+  for (std::size_t c = 0; c < total; ++c) element_start_[c + 1] += element_start_[c];
+  element_items_.resize(element_start_[total]);
+  scratch_.assign(element_start_.begin(), element_start_.end() - 1);
+  for (std::uint32_t e = 0; e < mesh.elements(); ++e)
+    for_cells(e, [&](std::size_t c) { element_items_[scratch_[c]++] = e; });
+}
+
+// Grain-wall candidates: for each grain (ascending), each wall (ascending) whose surface is
+// within the skin; a mesh's elements within the skin, ascending, from the grain's cell.
 template <int D>
 void NeighborList<D>::build_wall_pairs(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls,
-                                       WallPairList<D>& out) const {
+                                       WallPairList<D>& out) {
   out.clear();
+  double rmax = 0.0;
+  for (double r : p.radius) rmax = std::max(rmax, r);
+  auto add = [&](std::size_t i, std::size_t w, std::uint32_t e) {
+    out.i.push_back(static_cast<std::uint32_t>(i));
+    out.wall.push_back(static_cast<std::uint32_t>(w));
+    out.element.push_back(e);
+  };
   Vec n;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.inv_mass[i] == 0.0) continue;
-    for (std::size_t w = 0; w < walls.size(); ++w) {
-      if (walls[w].distance(p.x[i], n) - p.radius[i] < skin) {
-        out.i.push_back(static_cast<std::uint32_t>(i));
-        out.wall.push_back(static_cast<std::uint32_t>(w));
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    const Wall<D>& wall = walls[w];
+    if (wall.is_mesh()) {
+      bin_elements(wall, rmax + skin);
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.inv_mass[i] == 0.0) continue;
+        const std::uint32_t c = cell_of_[i];
+        for (std::uint32_t k = element_start_[c]; k < element_start_[c + 1]; ++k)
+          if (wall.mesh()->element_distance(p.x[i], element_items_[k]) - p.radius[i] < skin)
+            add(i, w, element_items_[k]);
       }
+      continue;
     }
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.inv_mass[i] != 0.0 && wall.distance(p.x[i], n) - p.radius[i] < skin) add(i, w, 0);
   }
+  // Found wall by wall; the list is sorted by (grain, wall, element): a stable sort by grain.
+  const std::size_t m = out.size();
+  scratch_.assign(p.size() + 1, 0);
+  for (std::size_t k = 0; k < m; ++k) ++scratch_[out.i[k] + 1];
+  for (std::size_t i = 0; i < p.size(); ++i) scratch_[i + 1] += scratch_[i];
+  new_order_.resize(m);
+  for (std::size_t k = 0; k < m; ++k)
+    new_order_[scratch_[out.i[k]]++] = static_cast<std::uint32_t>(k);
+  auto permute = [&](std::vector<std::uint32_t>& a) {
+    tmp_.resize(m);
+    for (std::size_t k = 0; k < m; ++k) tmp_[k] = a[new_order_[k]];
+    a.swap(tmp_);
+  };
+  permute(out.i);
+  permute(out.wall);
+  permute(out.element);
+  assign_ahead(out.feature, out.size(), std::uint32_t{0});
   assign_ahead(out.shear, out.size(), Vec(Vec::Zero()));
   assign_ahead(out.force, out.size(), Vec(Vec::Zero()));
   if (rolling) assign_ahead(out.roll, out.size(), Space<D>::zero_rot());
 }
 
-// Copy history of entries present in both sorted lists (keyed by (a, b)). `skipped(o)` is
-// called for every old entry with no match in the new list, in order.
-template <class List, class KeyA, class KeyB, class Skipped>
-static void carry_history(const List& old_list, List& new_list, KeyA a, KeyB b, Skipped skipped) {
+// Copy history of entries present in both sorted lists (keyed by key(list, k), ordered).
+// `skipped(o)` is called for every old entry with no match in the new list, in order.
+template <class List, class Key, class Skipped>
+static void carry_history(const List& old_list, List& new_list, Key key, Skipped skipped) {
   std::size_t o = 0;
   for (std::size_t k = 0; k < new_list.size(); ++k) {
-    while (o < old_list.size() &&
-           (a(old_list)[o] < a(new_list)[k] ||
-            (a(old_list)[o] == a(new_list)[k] && b(old_list)[o] < b(new_list)[k])))
-      skipped(o++);
-    if (o < old_list.size() && a(old_list)[o] == a(new_list)[k] &&
-        b(old_list)[o] == b(new_list)[k]) {
+    while (o < old_list.size() && key(old_list, o) < key(new_list, k)) skipped(o++);
+    if (o < old_list.size() && key(old_list, o) == key(new_list, k)) {
+      if constexpr (requires { new_list.feature; }) new_list.feature[k] = old_list.feature[o];
       new_list.shear[k] = old_list.shear[o];
       new_list.force[k] = old_list.force[o];
       if constexpr (requires { new_list.bridge; })
@@ -218,8 +299,7 @@ void NeighborList<D>::build(const ParticleStore<D>& p, const std::vector<Wall<D>
   build_pairs(p, new_pairs_);
   const bool had_bridges = pairs.bridge.size() == pairs.size() && !pairs.bridge.empty();
   carry_history(
-      pairs, new_pairs_, [](const auto& l) -> const auto& { return l.i; },
-      [](const auto& l) -> const auto& { return l.j; },
+      pairs, new_pairs_, [](const auto& l, std::size_t k) { return std::pair(l.i[k], l.j[k]); },
       [&](std::size_t o) {
         if (had_bridges && bridges && pairs.bridge[o] >= 0.0)
           dropped_bridges.push_back({pairs.i[o], pairs.j[o], pairs.bridge[o]});
@@ -227,13 +307,18 @@ void NeighborList<D>::build(const ParticleStore<D>& p, const std::vector<Wall<D>
   std::swap(pairs, new_pairs_);
   build_wall_pairs(p, walls, new_wall_pairs_);
   carry_history(
-      wall_pairs, new_wall_pairs_, [](const auto& l) -> const auto& { return l.i; },
-      [](const auto& l) -> const auto& { return l.wall; }, [](std::size_t) {});
+      wall_pairs, new_wall_pairs_,
+      [](const auto& l, std::size_t k) { return std::tuple(l.i[k], l.wall[k], l.element[k]); },
+      [](std::size_t) {});
   std::swap(wall_pairs, new_wall_pairs_);
   incidence_valid_ = false;
   x_ref = p.x;
   wall_ref.resize(walls.size());
-  for (std::size_t w = 0; w < walls.size(); ++w) wall_ref[w] = walls[w].point;
+  wall_ref_turn.resize(walls.size());
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    wall_ref[w] = walls[w].point;
+    wall_ref_turn[w] = walls[w].orientation;
+  }
   ++builds;
 }
 

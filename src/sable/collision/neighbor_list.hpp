@@ -48,11 +48,18 @@ struct DroppedBridge {
   double volume;
 };
 
+// Candidate grain-wall contacts, sorted by (grain, wall, element). `element` is the wall's
+// list element (a mesh's triangle or segment; 0 for the other shapes); `feature` is the id of
+// the surface feature whose contact the entry holds, which its history belongs to
+// (geometry/mesh_wall.hpp: a mesh element answers for its face and the edges and vertices it
+// owns, one at a time; 0 for the other shapes).
 template <int D>
 struct WallPairList {
   using Vec = typename Space<D>::Vec;
-  std::vector<std::uint32_t> i;     // grain slot
-  std::vector<std::uint32_t> wall;  // wall index
+  std::vector<std::uint32_t> i;        // grain slot
+  std::vector<std::uint32_t> wall;     // wall index
+  std::vector<std::uint32_t> element;  // the wall's element
+  std::vector<std::uint32_t> feature;  // the feature the history belongs to
   std::vector<Vec> shear;
   std::vector<Vec> force;                    // last force on the grain
   std::vector<typename Space<D>::Rot> roll;  // as PairList::roll
@@ -60,6 +67,8 @@ struct WallPairList {
   void clear() {
     i.clear();
     wall.clear();
+    element.clear();
+    feature.clear();
     shear.clear();
     force.clear();
     roll.clear();
@@ -81,8 +90,9 @@ class NeighborList {
   Vec domain_lo = Vec::Zero(), domain_hi = Vec::Zero();  // cell grid extent
   PairList<D> pairs;
   WallPairList<D> wall_pairs;
-  std::vector<Vec> x_ref;     // positions at the last build
-  std::vector<Vec> wall_ref;  // wall points at the last build
+  std::vector<Vec> x_ref;                                     // positions at the last build
+  std::vector<Vec> wall_ref;                                  // wall points at the last build
+  std::vector<typename Space<D>::Orientation> wall_ref_turn;  // and their orientations
   std::uint64_t builds = 0;
   bool bridges = false;                        // pairs carry a bridge volume (capillary law)
   bool rolling = false;                        // both lists carry a rolling spring
@@ -113,13 +123,18 @@ class NeighborList {
   void build_pairs(const ParticleStore<D>& p, PairList<D>& out);
   void partners_of(const ParticleStore<D>& p, std::size_t i, std::vector<std::uint32_t>& out) const;
   void build_wall_pairs(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls,
-                        WallPairList<D>& out) const;
+                        WallPairList<D>& out);
+  void bin_elements(const Wall<D>& wall, double reach);
+  std::array<int, D> cell_coords(const Vec& x) const;
 
   bool incidence_valid_ = false;
   // Scratch reused between builds so a rebuild does not allocate once sizes have settled.
   std::array<int, D> ncell_{};
   double cell_size_ = 0.0;
   std::vector<std::uint32_t> cell_of_, cell_start_, cell_items_, scratch_;
+  // A bounded wall's elements by cell (bin_elements), for one wall at a time.
+  std::vector<std::uint32_t> element_start_, element_items_;
+  std::vector<std::uint32_t> new_order_, tmp_;                   // the wall list's sort by grain
   std::vector<std::vector<std::uint32_t>> thread_i_, thread_j_;  // per-thread pair blocks
   PairList<D> new_pairs_;
   WallPairList<D> new_wall_pairs_;

@@ -21,6 +21,7 @@ struct Space<3> {
   using Vec = Eigen::Vector3d;
   using Rot = Eigen::Vector3d;  // angular velocity, torque, rotation vector
   using Orientation = Eigen::Quaterniond;
+  using Matrix = Eigen::Matrix3d;
 
   static Vec zero() { return Vec::Zero(); }
   static Rot zero_rot() { return Rot::Zero(); }
@@ -56,6 +57,13 @@ struct Space<3> {
     if (std::abs(n2 - 1.0) > 1e-8) return r.normalized();
     return Orientation(r.coeffs() * (1.5 - 0.5 * n2));
   }
+  // The rotation matrix of an orientation, and the angle (rad, in [0, pi]) of the rotation
+  // that takes b to a: what a turning wall's rebuild test bounds its surface's motion by.
+  static Matrix matrix(const Orientation& q) { return q.toRotationMatrix(); }
+  static double angle_between(const Orientation& a, const Orientation& b) {
+    const Orientation r = a * b.conjugate();
+    return 2.0 * std::atan2(r.vec().norm(), std::abs(r.w()));
+  }
   static Vec from_array(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
   static std::array<double, 3> to_array(const Vec& v) { return {v.x(), v.y(), v.z()}; }
   static std::array<double, 3> rot_to_array(const Rot& w) { return {w.x(), w.y(), w.z()}; }
@@ -68,6 +76,7 @@ struct Space<2> {
   using Vec = Eigen::Vector2d;
   using Rot = double;          // rotation about z
   using Orientation = double;  // angle about z (rad)
+  using Matrix = Eigen::Matrix2d;
 
   static Vec zero() { return Vec::Zero(); }
   static Rot zero_rot() { return 0.0; }
@@ -76,6 +85,13 @@ struct Space<2> {
   static double rot_norm2(Rot w) { return w * w; }
   static Orientation identity() { return 0.0; }
   static Orientation rotate(Orientation a, Rot w, double h) { return a + w * h; }
+  static Matrix matrix(Orientation a) {
+    const double c = std::cos(a), s = std::sin(a);
+    Matrix m;
+    m << c, -s, s, c;
+    return m;
+  }
+  static double angle_between(Orientation a, Orientation b) { return std::abs(a - b); }
   static Vec from_array(const std::array<double, 3>& a) { return {a[0], a[1]}; }
   static std::array<double, 3> to_array(const Vec& v) { return {v.x(), v.y(), 0.0}; }
   static std::array<double, 3> rot_to_array(Rot w) { return {0.0, 0.0, w}; }

@@ -112,8 +112,13 @@ class DemSolver final : public Solver {
   bool closing_loop(double h_kick);
   // A grain's closing (dem/grain_loops_impl.hpp): its wall contacts, its sum, the second half
   // kick, the check of its state.
+  // (dem/wall_contacts_impl.hpp)
   template <class Normal>
-  void wall_contact(std::size_t k, double& max_ratio, std::size_t& touching);
+  void wall_contact(std::size_t k, const Wall<D>& wall, const WallFeature<D>& f, double& max_ratio,
+                    std::size_t& touching);
+  template <class Normal>
+  void mesh_contacts(std::uint32_t k0, std::uint32_t k1, const Wall<D>& wall, double& max_ratio,
+                     std::size_t& touching);
   template <class Normal>
   void wall_contacts(std::uint32_t g0, std::uint32_t g1, double& max_ratio, std::size_t& touching);
   struct GrainPass;
@@ -149,6 +154,10 @@ class DemSolver final : public Solver {
   // like n x F; apart entries hold zeros), and per grain 1 / (I + m R^2).
   std::vector<typename Space<D>::Rot> pair_roll_, wall_roll_;
   std::vector<double> roll_inv_ic_;
+  // Mesh contacts only (mesh_contacts): each entry's feature this step, and whether its
+  // contact began (it takes an ended contact's history).
+  std::vector<WallFeature<D>> feature_;
+  std::vector<std::uint8_t> hand_over_;
   // The blocks of grains of the step's loops, one per thread: each parallel loop has its own,
   // so that its threads finish together (dem/grain_split.hpp). The pair pass's, and the grains
   // it leaves to the gather, are made again after each near-list remake (update_pair_split()).

@@ -105,7 +105,7 @@ void DemSolver<D, Laws>::compute_forces() {
 template <int D, class Laws>
 typename DemSolver<D, Laws>::Displacements DemSolver<D, Laws>::integrate(double h) {
   const Displacements moved = kick_and_drift(0.5 * h, h);
-  for (auto& wall : world_.walls) wall.point += h * wall.velocity;
+  for (auto& wall : world_.walls) wall.advance(h);
   return moved;
 }
 
@@ -141,6 +141,10 @@ void DemSolver<D, Laws>::fit_scratch_to_lists() {
   assign_ahead(pair_event_, nl.bridges ? nl.pairs.size() : 0, std::uint8_t{0});
   assign_ahead(pair_roll_, nl.rolling ? nl.pairs.size() : 0, zero);
   assign_ahead(wall_roll_, nl.rolling ? nl.wall_pairs.size() : 0, zero);
+  const bool meshes = std::any_of(world_.walls.begin(), world_.walls.end(),
+                                  [](const Wall<D>& w) { return w.is_mesh(); });
+  assign_ahead(feature_, meshes ? nl.wall_pairs.size() : 0, WallFeature<D>{});
+  assign_ahead(hand_over_, meshes ? nl.wall_pairs.size() : 0, std::uint8_t{0});
   scratch_build_ = nl.builds;
 }
 
@@ -731,3 +735,4 @@ void DemSolver<D, Laws>::settle_liquid() {
 }  // namespace sable
 
 #include "sable/dem/grain_loops_impl.hpp"
+#include "sable/dem/wall_contacts_impl.hpp"

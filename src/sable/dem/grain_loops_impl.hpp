@@ -175,15 +175,6 @@ bool DemSolver<D, Laws>::closing_loop(double h_kick) {
   return bad != 0;
 }
 
-// Grains [g0, g1)'s wall contacts (their wall pairs are one run of the list).
-template <int D, class Laws>
-template <class Normal>
-void DemSolver<D, Laws>::wall_contacts(std::uint32_t g0, std::uint32_t g1, double& max_ratio,
-                                       std::size_t& touching) {
-  const std::uint32_t* const wb = world_.neighbors.wall_begin.data();
-  for (std::uint32_t k = wb[g0]; k < wb[g1]; ++k) wall_contact<Normal>(k, max_ratio, touching);
-}
-
 // The dry pair pass's closing of grains [g0, g1) once it is past their entries (see
 // dry_pair_forces: an entry (i, j) has i < j, so their sums are final): their wall contacts,
 // then, for each grain whose sum the pass made (not kGathered), its walls' terms, its half
@@ -258,55 +249,6 @@ int DemSolver<D, Laws>::close_gathered_chunks(const GrainPass& pass,
       base += size;
     }
   }
-}
-
-// Stage total_wall_forces (printed "closing"): each wall's total force, from its contacts'
-// forces in list order, once every contact's force is final.
-template <int D, class Laws>
-void DemSolver<D, Laws>::total_wall_forces() {
-  const auto& wl = world_.neighbors.wall_pairs;
-  for (auto& wall : world_.walls) wall.force.setZero();
-  for (std::size_t k = 0; k < wl.size(); ++k) world_.walls[wl.wall[k]].force -= wl.force[k];
-}
-
-// Wall pair k's contact: its force on the grain, n x F and overlap stored in its slots (for
-// the grain's sum), and its rolling couple; raises max_ratio to the overlap over the radius.
-template <int D, class Laws>
-template <class Normal>
-void DemSolver<D, Laws>::wall_contact(std::size_t k, double& max_ratio, std::size_t& touching) {
-  using S = Space<D>;
-  const auto& p = world_.particles;
-  auto& wl = world_.neighbors.wall_pairs;
-  const bool rolling = with_rolling();
-  const std::uint32_t i = wl.i[k];
-  const Wall<D>& wall = world_.walls[wl.wall[k]];
-  ContactGeometry<D> g;
-  const double dist = wall.distance(p.x[i], g.n);
-  g.delta = p.radius[i] - dist;
-  if (g.delta <= 0.0) {
-    if (rolling && wall_delta_[k] != 0.0) {
-      wl.roll[k] = S::zero_rot();
-      wall_roll_[k] = S::zero_rot();
-    }
-    dem_detail::forget_if_ended(wl.shear.data(), wl.force.data(), wall_moment_.data(),
-                                wall_delta_.data(), k, S::zero_rot());
-    return;
-  }
-  // The lever arm is -(R_i - delta/2) n (see PairPass::touch).
-  g.vrel =
-      p.v[i] - wall.velocity - S::spin_velocity((p.radius[i] - 0.5 * g.delta) * p.omega[i], g.n);
-  g.r_eff = p.radius[i];
-  g.m_eff = p.mass[i];
-  const PairParams& pp = world_.materials.pair(p.material[i], wall.material);
-  const typename S::Vec f = contact_force<D, Normal>(g, pp, world_.model, world_.dt, wl.shear[k]);
-  wl.force[k] = f;
-  wall_moment_[k] = S::moment(g.n, f);
-  wall_delta_[k] = g.delta;
-  if (rolling)  // the wall does not turn: the relative spin is the grain's
-    wall_roll_[k] = rolling_couple<D, Normal>(g, pp, world_.model, world_.dt, f, p.omega[i],
-                                              roll_inv_ic_[i], 0.0, wl.roll[k]);
-  max_ratio = std::max(max_ratio, g.delta / p.radius[i]);
-  ++touching;
 }
 
 }  // namespace sable

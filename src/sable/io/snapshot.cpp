@@ -7,6 +7,7 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 
@@ -130,17 +131,30 @@ void write_particles(h5::File& f, const ParticleStore<D>& p) {
 template <int D>
 void write_walls(h5::File& f, const std::vector<Wall<D>>& walls) {
   std::vector<std::string> names;
-  std::vector<typename Space<D>::Vec> point, velocity, force;
+  std::vector<typename Space<D>::Vec> point, velocity, force, pivot;
+  std::vector<typename Space<D>::Orientation> orientation;
+  std::vector<typename Space<D>::Rot> spin, torque;
+  std::vector<std::uint32_t> pivoted;
   for (const auto& wall : walls) {
     names.push_back(wall.name);
     point.push_back(wall.point);
     velocity.push_back(wall.velocity);
     force.push_back(wall.force);
+    orientation.push_back(wall.orientation);
+    spin.push_back(wall.spin);
+    pivot.push_back(wall.pivot);
+    pivoted.push_back(wall.pivoted ? 1 : 0);
+    torque.push_back(wall.torque);
   }
   f.write_strings("/walls/names", names);
   write_rows(f, "/walls/point", point);
   write_rows(f, "/walls/velocity", velocity);
   write_rows(f, "/walls/force", force);
+  write_rows(f, "/walls/orientation", orientation);
+  write_rows(f, "/walls/spin", spin);
+  write_rows(f, "/walls/pivot", pivot);
+  f.write("/walls/pivoted", pivoted);
+  write_rows(f, "/walls/torque", torque);
 }
 
 template <int D>
@@ -151,12 +165,15 @@ void write_neighbors(h5::File& f, const NeighborList<D>& nl) {
           std::vector<double>(nl.domain_hi.data(), nl.domain_hi.data() + D));
   write_rows(f, "/neighbors/x_ref", nl.x_ref);
   write_rows(f, "/neighbors/wall_ref", nl.wall_ref);
+  write_rows(f, "/neighbors/wall_ref_turn", nl.wall_ref_turn);
   f.write("/neighbors/pairs/i", nl.pairs.i);
   f.write("/neighbors/pairs/j", nl.pairs.j);
   write_rows(f, "/neighbors/pairs/shear", nl.pairs.shear);
   write_rows(f, "/neighbors/pairs/force", nl.pairs.force);
   f.write("/neighbors/wall_pairs/i", nl.wall_pairs.i);
   f.write("/neighbors/wall_pairs/wall", nl.wall_pairs.wall);
+  f.write("/neighbors/wall_pairs/element", nl.wall_pairs.element);
+  f.write("/neighbors/wall_pairs/feature", nl.wall_pairs.feature);
   write_rows(f, "/neighbors/wall_pairs/shear", nl.wall_pairs.shear);
   write_rows(f, "/neighbors/wall_pairs/force", nl.wall_pairs.force);
   f.write_attr("/neighbors", "skin", nl.skin);
@@ -216,7 +233,10 @@ template <int D>
 struct Loaded {
   using Vec = typename Space<D>::Vec;
   ParticleStore<D> particles;
-  std::vector<Vec> wall_point, wall_velocity, wall_force;
+  std::vector<Vec> wall_point, wall_velocity, wall_force, wall_pivot;
+  std::vector<typename Space<D>::Orientation> wall_orientation;
+  std::vector<typename Space<D>::Rot> wall_spin, wall_torque;
+  std::vector<std::uint32_t> wall_pivoted;
   NeighborList<D> neighbors;
   LiquidState liquid;
   double time = 0.0, dt = 0.0;
@@ -331,10 +351,40 @@ void read_walls(const h5::File& f, const std::vector<Wall<D>>& walls, Loaded<D>&
   out.wall_point = read_rows<Vec>(f, "/walls/point", w, why);
   out.wall_velocity = read_rows<Vec>(f, "/walls/velocity", w, why);
   out.wall_force = read_rows<Vec>(f, "/walls/force", w, why);
+  // The motion beyond a translation; a file without it holds walls that never turned.
+  using S = Space<D>;
+  if (!f.exists("/walls/orientation")) {
+    out.wall_orientation.assign(walls.size(), S::identity());
+    out.wall_spin.assign(walls.size(), S::zero_rot());
+    out.wall_pivot.assign(walls.size(), S::zero());
+    out.wall_pivoted.assign(walls.size(), 0);
+    out.wall_torque.assign(walls.size(), S::zero_rot());
+    return;
+  }
+  out.wall_orientation = read_rows<typename S::Orientation>(f, "/walls/orientation", w, why);
+  out.wall_spin = read_rows<typename S::Rot>(f, "/walls/spin", w, why);
+  out.wall_pivot = read_rows<Vec>(f, "/walls/pivot", w, why);
+  out.wall_pivoted = f.read<std::uint32_t>("/walls/pivoted", 0, w, why);
+  out.wall_torque = read_rows<typename S::Rot>(f, "/walls/torque", w, why);
+  for (std::size_t k = 0; k < walls.size(); ++k) {
+    bool finite = std::isfinite(S::rot_norm2(out.wall_spin[k])) && out.wall_pivot[k].allFinite();
+    if constexpr (D == 3) {
+      const double n2 = out.wall_orientation[k].squaredNorm();
+      finite = finite && std::isfinite(n2) && std::abs(n2 - 1.0) < 1e-6;
+    } else {
+      finite = finite && std::isfinite(out.wall_orientation[k]);
+    }
+    if (!finite || out.wall_pivoted[k] > 1)
+      f.fail(
+          fmt::format("wall {} (\"{}\"): '/walls/orientation', 'spin', 'pivot' or 'pivoted' "
+                      "row {} is not finite, not a unit quaternion or not 0/1",
+                      k, clip(walls[k].name), k));
+  }
 }
 
 template <int D>
-void check_pairs(const h5::File& f, const NeighborList<D>& nl, std::size_t n, std::size_t walls) {
+void check_pairs(const h5::File& f, const NeighborList<D>& nl, std::size_t n,
+                 const std::vector<std::uint32_t>& elements) {
   for (std::size_t k = 0; k < nl.pairs.size(); ++k) {
     if (!(nl.pairs.i[k] < nl.pairs.j[k] && nl.pairs.j[k] < n)) {
       f.fail(
@@ -351,27 +401,30 @@ void check_pairs(const h5::File& f, const NeighborList<D>& nl, std::size_t n, st
                       k));
     }
   }
-  for (std::size_t k = 1; k < nl.wall_pairs.size(); ++k) {
-    if (std::pair(nl.wall_pairs.i[k - 1], nl.wall_pairs.wall[k - 1]) >=
-        std::pair(nl.wall_pairs.i[k], nl.wall_pairs.wall[k])) {
+  const auto& wl = nl.wall_pairs;
+  auto key = [&](std::size_t k) { return std::tuple(wl.i[k], wl.wall[k], wl.element[k]); };
+  for (std::size_t k = 1; k < wl.size(); ++k) {
+    if (key(k - 1) >= key(k)) {
       f.fail(
           fmt::format("'/neighbors/wall_pairs' row {} is out of order; expected rows sorted "
-                      "by (grain, wall) without repeats",
+                      "by (grain, wall, element) without repeats",
                       k));
     }
   }
-  for (std::size_t k = 0; k < nl.wall_pairs.size(); ++k) {
-    if (nl.wall_pairs.i[k] >= n || nl.wall_pairs.wall[k] >= walls) {
+  for (std::size_t k = 0; k < wl.size(); ++k) {
+    if (wl.i[k] >= n || wl.wall[k] >= elements.size() || wl.element[k] >= elements[wl.wall[k]]) {
       f.fail(
-          fmt::format("'/neighbors/wall_pairs' row {} pairs slot {} with wall {}; expected a "
-                      "slot below {} and a wall below {}",
-                      k, nl.wall_pairs.i[k], nl.wall_pairs.wall[k], n, walls));
+          fmt::format("'/neighbors/wall_pairs' row {} pairs slot {} with wall {}, element {}; "
+                      "expected a slot below {}, a wall below {} and one of its elements",
+                      k, wl.i[k], wl.wall[k], wl.element[k], n, elements.size()));
     }
   }
 }
 
 template <int D>
-void read_neighbors(const h5::File& f, std::size_t n, std::size_t walls, NeighborList<D>& nl) {
+void read_neighbors(const h5::File& f, std::size_t n, const std::vector<std::uint32_t>& elements,
+                    NeighborList<D>& nl) {
+  const std::size_t walls = elements.size();
   using Vec = typename Space<D>::Vec;
   const auto lo = f.read<double>("/neighbors/domain_lo", 0, D, "one per dimension");
   const auto hi = f.read<double>("/neighbors/domain_hi", 0, D, "one per dimension");
@@ -412,7 +465,22 @@ void read_neighbors(const h5::File& f, std::size_t n, std::size_t walls, Neighbo
   wl.wall = f.read<std::uint32_t>("/neighbors/wall_pairs/wall", 0, nw, wwhy);
   wl.shear = read_rows<Vec>(f, "/neighbors/wall_pairs/shear", nw, wwhy);
   wl.force = read_rows<Vec>(f, "/neighbors/wall_pairs/force", nw, wwhy);
-  check_pairs(f, nl, n, walls);
+  // A list of walls without elements (planes, cylinders) has element and feature 0.
+  const bool meshes = f.exists("/neighbors/wall_pairs/element");
+  wl.element = meshes ? f.read<std::uint32_t>("/neighbors/wall_pairs/element", 0, nw, wwhy)
+                      : std::vector<std::uint32_t>(wl.size(), 0);
+  wl.feature = meshes ? f.read<std::uint32_t>("/neighbors/wall_pairs/feature", 0, nw, wwhy)
+                      : std::vector<std::uint32_t>(wl.size(), 0);
+  nl.wall_ref_turn =
+      f.exists("/neighbors/wall_ref_turn")
+          ? read_rows<typename Space<D>::Orientation>(f, "/neighbors/wall_ref_turn")
+          : std::vector<typename Space<D>::Orientation>(nl.wall_ref.size(), Space<D>::identity());
+  if (nl.wall_ref_turn.size() != nl.wall_ref.size())
+    f.fail(
+        fmt::format("dataset '/neighbors/wall_ref_turn' has {} rows, expected {} (as "
+                    "'/neighbors/wall_ref')",
+                    nl.wall_ref_turn.size(), nl.wall_ref.size()));
+  check_pairs(f, nl, n, elements);
 }
 
 // The rolling springs, if the file has them (s.neighbors.rolling says so). A file without
@@ -492,6 +560,16 @@ void swap_state(World<D>& w, Loaded<D>& s) {
     swap(w.walls[k].point, s.wall_point[k]);
     swap(w.walls[k].velocity, s.wall_velocity[k]);
     swap(w.walls[k].force, s.wall_force[k]);
+    const bool was_turned = w.walls[k].turned();
+    swap(w.walls[k].orientation, s.wall_orientation[k]);
+    swap(w.walls[k].spin, s.wall_spin[k]);
+    swap(w.walls[k].pivot, s.wall_pivot[k]);
+    swap(w.walls[k].torque, s.wall_torque[k]);
+    const bool pivoted = s.wall_pivoted[k] != 0;
+    s.wall_pivoted[k] = w.walls[k].pivoted ? 1 : 0;
+    w.walls[k].pivoted = pivoted;
+    // A mesh's vertices and a turned shape's normal or axis follow the pose.
+    if (w.walls[k].is_mesh() || w.walls[k].turned() || was_turned) w.walls[k].place();
   }
   auto& a = w.neighbors;
   auto& b = s.neighbors;
@@ -502,6 +580,7 @@ void swap_state(World<D>& w, Loaded<D>& s) {
   swap(a.wall_pairs, b.wall_pairs);
   swap(a.x_ref, b.x_ref);
   swap(a.wall_ref, b.wall_ref);
+  swap(a.wall_ref_turn, b.wall_ref_turn);
   swap(a.builds, b.builds);
   swap(w.liquid, s.liquid);
   swap(w.time, s.time);
@@ -543,7 +622,9 @@ RunPosition load_snapshot(const std::string& path, World<D>& world, std::string*
   read_clock(f, s);
   s.particles = read_particles<D>(f, world.materials.size());
   read_walls(f, world.walls, s);
-  read_neighbors(f, s.particles.size(), world.walls.size(), s.neighbors);
+  std::vector<std::uint32_t> elements;
+  for (const auto& wall : world.walls) elements.push_back(wall.elements());
+  read_neighbors(f, s.particles.size(), elements, s.neighbors);
   read_liquid(f, world.neighbors.bridges, s.particles.size(), s);
   read_rolling(f, s);
   std::string text = f.read_string("/scenario");

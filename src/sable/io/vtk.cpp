@@ -287,6 +287,10 @@ struct WallMesh {
   std::vector<double> xyz;
   std::vector<std::vector<std::int64_t>> cells;
   std::vector<std::int32_t> wall;
+  // Per cell, its mesh element (-1 for a plane's or a cylinder's cells): element.size() is
+  // kept equal to cells.size(); `first` is where the current wall's cells begin.
+  std::vector<std::int32_t> element;
+  std::size_t first = 0;
 
   std::int64_t point(const P3& p) {
     append3(xyz, p);
@@ -319,7 +323,8 @@ std::vector<typename Space<D>::Vec> clip_plane(const Wall<D>& wall,
     for (int d = 0; d < D; ++d) {
       if ((m >> d) & 1) continue;
       const Vec a = corner(m), c = corner(m | (1 << d));
-      const double sa = (a - wall.point).dot(wall.normal), sc = (c - wall.point).dot(wall.normal);
+      const double sa = (a - wall.point).dot(wall.normal()),
+                   sc = (c - wall.point).dot(wall.normal());
       if (std::abs(sa) <= tol) add(a);
       if (std::abs(sc) <= tol) add(c);
       if ((sa < -tol && sc > tol) || (sa > tol && sc < -tol)) add(a + (c - a) * (sa / (sa - sc)));
@@ -330,10 +335,10 @@ std::vector<typename Space<D>::Vec> clip_plane(const Wall<D>& wall,
   for (const Vec& q : pts) centre += q / static_cast<double>(pts.size());
   std::vector<double> key(pts.size());
   if constexpr (D == 2) {
-    const Vec t(-wall.normal.y(), wall.normal.x());
+    const Vec t(-wall.normal().y(), wall.normal().x());
     for (std::size_t k = 0; k < pts.size(); ++k) key[k] = (pts[k] - centre).dot(t);
   } else {
-    const Vec n = wall.normal.normalized();
+    const Vec n = wall.normal().normalized();
     const Vec u = n.unitOrthogonal(), v = n.cross(u);
     for (std::size_t k = 0; k < pts.size(); ++k)
       key[k] = std::atan2((pts[k] - centre).dot(v), (pts[k] - centre).dot(u));
@@ -358,7 +363,8 @@ void cylinder_cells(const Wall<D>& wall, const World<D>& world, std::int32_t ind
   std::vector<std::int64_t> bottom, top;
   for (int s = 0; s < kSides; ++s) {
     const double a = kTwoPi * s / kSides;
-    const double x = c[0] + wall.radius * std::cos(a), y = c[1] + wall.radius * std::sin(a);
+    const double radius = std::get<CylinderShape<D>>(wall.shape).radius;
+    const double x = c[0] + radius * std::cos(a), y = c[1] + radius * std::sin(a);
     if constexpr (D == 3) {
       bottom.push_back(mesh.point({x, y, world.neighbors.domain_lo.z()}));
       top.push_back(mesh.point({x, y, world.neighbors.domain_hi.z()}));
@@ -381,6 +387,20 @@ void cylinder_cells(const Wall<D>& wall, const World<D>& world, std::int32_t ind
   }
 }
 
+// A mesh wall's elements at its current pose, one cell each (their forces: write_walls_vtp).
+template <int D>
+void mesh_cells(const MeshShape<D>& m, std::int32_t index, WallMesh& mesh) {
+  const auto first = static_cast<std::int64_t>(mesh.xyz.size() / 3);
+  for (const auto& x : m.vertices()) mesh.point(Space<D>::to_array(x));
+  for (const auto& e : m.surface().elements) {
+    std::vector<std::int64_t> cell;
+    for (std::uint32_t v : e) cell.push_back(first + v);
+    mesh.cells.push_back(cell);
+    mesh.wall.push_back(index);
+    mesh.element.push_back(static_cast<std::int32_t>(mesh.element.size() - mesh.first));
+  }
+}
+
 }  // namespace
 
 template <int D>
@@ -390,8 +410,14 @@ void write_walls_vtp(const World<D>& world, const std::string& path) {
   for (std::size_t k = 0; k < world.walls.size(); ++k) {
     const Wall<D>& wall = world.walls[k];
     const auto index = static_cast<std::int32_t>(k);
-    if (wall.kind == WallKind::kCylinderInside) {
+    if (std::holds_alternative<CylinderShape<D>>(wall.shape)) {
       cylinder_cells(wall, world, index, mesh);
+      continue;
+    }
+    mesh.element.resize(mesh.cells.size(), -1);
+    mesh.first = mesh.cells.size();
+    if (const auto* m = wall.mesh()) {
+      mesh_cells(*m, index, mesh);
       continue;
     }
     std::vector<std::int64_t> cell;
@@ -401,8 +427,18 @@ void write_walls_vtp(const World<D>& world, const std::string& path) {
     mesh.cells.push_back(cell);
     mesh.wall.push_back(index);
   }
-  std::vector<double> force;
-  for (std::int32_t k : mesh.wall) append3(force, S::to_array(world.walls[k].force));
+  mesh.element.resize(mesh.cells.size(), -1);
+  // Per cell the wall's total force, and the force on the cell itself: a mesh element's own
+  // (the grains' contacts kept in its list entries), a plane's or a cylinder's whole force.
+  std::vector<double> force, cell_force;
+  for (std::size_t c = 0; c < mesh.wall.size(); ++c) {
+    const Wall<D>& wall = world.walls[static_cast<std::size_t>(mesh.wall[c])];
+    append3(force, S::to_array(wall.force));
+    const auto e = static_cast<std::size_t>(mesh.element[c]);
+    append3(cell_force, S::to_array(mesh.element[c] >= 0 && e < wall.element_force.size()
+                                        ? wall.element_force[e]
+                                        : (mesh.element[c] >= 0 ? S::zero() : wall.force)));
+  }
   const std::size_t ncells = mesh.cells.size();
   write_pieces_atomic(path, [&](const PutText& put) {
     Sink s(put);
@@ -410,6 +446,8 @@ void write_walls_vtp(const World<D>& world, const std::string& path) {
     fmt::format_to(s.out(), "<CellData Scalars=\"wall\" Vectors=\"force\">\n");
     int_array(s, "Int32", "wall", mesh.wall);
     real_array(s, "force", 3, force);
+    int_array(s, "Int32", "element", mesh.element);
+    real_array(s, "cell_force", 3, cell_force);
     fmt::format_to(s.out(), "</CellData>\n");
     points_section(s, mesh.xyz.size(), [&](std::size_t k) { return mesh.xyz[k]; });
     cells_section(s, D == 2 ? "Lines" : "Polys", mesh.cells);

@@ -16,11 +16,11 @@ std::optional<BoxState<D>> measure_box(const World<D>& w) {
     const int d = wall.facing_axis();
     if (d < 0) continue;
     const double x = wall.point[d];
-    if (wall.normal[d] > 0.0 && (!has_lo[d] || x > b.lo[d])) {
+    if (wall.normal()[d] > 0.0 && (!has_lo[d] || x > b.lo[d])) {
       b.lo[d] = x;
       b.lo_wall[d] = k;
       has_lo[d] = true;
-    } else if (wall.normal[d] < 0.0 && (!has_hi[d] || x < b.hi[d])) {
+    } else if (wall.normal()[d] < 0.0 && (!has_hi[d] || x < b.hi[d])) {
       b.hi[d] = x;
       b.hi_wall[d] = k;
       has_hi[d] = true;

@@ -18,7 +18,7 @@ double extent(const World<D>& w, int axis) {
   bool has_lo = false, has_hi = false;
   for (const auto& wall : w.walls) {
     if (wall.facing_axis() != axis) continue;
-    if (wall.normal[axis] > 0.0) {
+    if (wall.normal()[axis] > 0.0) {
       lo = has_lo ? std::max(lo, wall.point[axis]) : wall.point[axis];
       has_lo = true;
     } else {
@@ -46,7 +46,7 @@ double wall_area(const World<D>& w, std::size_t k) {
 
 template <int D>
 double wall_normal_stress(const World<D>& w, std::size_t k) {
-  return -w.walls[k].force.dot(w.walls[k].normal) / wall_area(w, k);
+  return -w.walls[k].force.dot(w.walls[k].normal()) / wall_area(w, k);
 }
 
 template <int D>
@@ -64,12 +64,12 @@ void servo_walls(World<D>& w, const std::vector<ServoTarget>& targets, const Ser
   }
   for (const auto& t : targets) {
     const double area = wall_area(w, t.wall);
-    const double error = -w.walls[t.wall].force.dot(w.walls[t.wall].normal) / area - t.stress;
+    const double error = -w.walls[t.wall].force.dot(w.walls[t.wall].normal()) / area - t.stress;
     const WallResponse r = wall_response(w, t.wall);
     const double resist = r.stiffness * w.dt + r.damping;
     const double g = resist > 0.0 ? std::min(gain, 0.5 * area / resist) : gain;
     const double speed = std::clamp(g * error, -s.max_velocity, s.max_velocity);
-    w.walls[t.wall].velocity = -speed * w.walls[t.wall].normal;
+    w.walls[t.wall].velocity = -speed * w.walls[t.wall].normal();
   }
 }
 

@@ -31,13 +31,12 @@ void add_walls(const WallConfig& wc, World<D>& w) {
   if (wc.type == "plane") {
     wall.name = wc.name;
     wall.point = S::from_array(wc.point);
-    wall.normal = S::from_array(wc.normal).normalized();
+    wall.shape = PlaneShape<D>(S::from_array(wc.normal).normalized());
     w.walls.push_back(wall);
   } else if (wc.type == "cylinder") {
     wall.name = wc.name;
-    wall.kind = WallKind::kCylinderInside;
+    wall.shape = CylinderShape<D>(wc.radius);
     wall.point = S::from_array({wc.center[0], wc.center[1], 0.0});
-    wall.radius = wc.radius;
     w.walls.push_back(wall);
   } else {  // box: one plane per face, normals pointing inwards
     static constexpr const char* axes = "xyz";
@@ -46,8 +45,9 @@ void add_walls(const WallConfig& wc, World<D>& w) {
         Wall<D> face = wall;
         face.name = fmt::format("{}.{}{}", wc.name, axes[d], side == 0 ? "lo" : "hi");
         face.point = S::from_array(side == 0 ? wc.lo : wc.hi);
-        face.normal = S::zero();
-        face.normal[d] = side == 0 ? 1.0 : -1.0;
+        typename S::Vec normal = S::zero();
+        normal[d] = side == 0 ? 1.0 : -1.0;
+        face.shape = PlaneShape<D>(normal);
         w.walls.push_back(face);
       }
     }

@@ -6,6 +6,7 @@
 // not hashed: a snapshot restores the dynamic state onto a world built from its scenario.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <type_traits>
 #include <vector>
@@ -64,6 +65,11 @@ std::uint64_t state_hash(const World<D>& w) {
     detail::hash_vec(h, wall.point);
     detail::hash_vec(h, wall.velocity);
     detail::hash_vec(h, wall.force);
+    if (wall.moves_about()) {  // only walls given a rotation: the others hash as they did
+      hash_dense(h, std::vector{wall.orientation});
+      hash_dense(h, std::vector{wall.spin});
+      detail::hash_vec(h, wall.pivot);
+    }
   }
   const auto& nl = w.neighbors;
   h.value(nl.skin);
@@ -83,12 +89,19 @@ std::uint64_t state_hash(const World<D>& w) {
     h.value(w.liquid.total);
     h.value(w.liquid.lost);
   }
+  if (std::any_of(w.walls.begin(), w.walls.end(),
+                  [](const auto& wall) { return wall.is_mesh(); })) {
+    hash_dense(h, nl.wall_pairs.element);  // only with a mesh wall (0 for other shapes)
+    hash_dense(h, nl.wall_pairs.feature);
+  }
   if (nl.rolling) {  // only with rolling resistance: other runs hash as they always did
     hash_dense(h, nl.pairs.roll);
     hash_dense(h, nl.wall_pairs.roll);
   }
   hash_dense(h, nl.x_ref);
   hash_dense(h, nl.wall_ref);
+  for (std::size_t k = 0; k < w.walls.size() && k < nl.wall_ref_turn.size(); ++k)
+    if (w.walls[k].moves_about()) hash_dense(h, std::vector{nl.wall_ref_turn[k]});
   h.value(w.time);
   h.value(w.step);
   h.value(w.dt);

@@ -1,0 +1,164 @@
+// The DEM's grain-wall contacts: each grain's in its closing (dem/grain_loops_impl.hpp),
+// and each wall's total force and torque once every contact's force is final.
+//
+// A plane or a cylinder has one list entry per (grain, wall). A mesh has one per (grain,
+// wall, element) within reach, and its contacts are resolved together (mesh_contacts): each
+// entry answers for the feature its element owns (geometry/mesh_wall.hpp), and when a grain
+// slides from one feature to the next (face to face across a flat edge, face to edge on a
+// faceted cylinder) the tangential history of the contact that ended moves to the one that
+// began, as it would stay on a smooth surface.
+#pragma once
+
+#include <algorithm>
+#include <array>
+
+#include "sable/dem/dem_solver.hpp"
+
+namespace sable {
+
+// Grains [g0, g1)'s wall contacts (their wall pairs are one run of the list, by wall and
+// element within each grain).
+template <int D, class Laws>
+template <class Normal>
+void DemSolver<D, Laws>::wall_contacts(std::uint32_t g0, std::uint32_t g1, double& max_ratio,
+                                       std::size_t& touching) {
+  const auto& wl = world_.neighbors.wall_pairs;
+  const std::uint32_t* const wb = world_.neighbors.wall_begin.data();
+  const std::uint32_t end = wb[g1];
+  for (std::uint32_t k = wb[g0]; k < end; ++k) {
+    const Wall<D>& wall = world_.walls[wl.wall[k]];
+    if (!wall.is_mesh()) {
+      const WallFeature<D> f = wall.contact(world_.particles.x[wl.i[k]], 0);
+      wall_contact<Normal>(k, wall, f, max_ratio, touching);
+      continue;
+    }
+    std::uint32_t k1 = k + 1;
+    while (k1 < end && wl.i[k1] == wl.i[k] && wl.wall[k1] == wl.wall[k]) ++k1;
+    mesh_contacts<Normal>(k, k1, wall, max_ratio, touching);
+    k = k1 - 1;
+  }
+}
+
+// A grain's entries [k0, k1) with one mesh: the features their elements answer for, the
+// history handed from the contacts that ended to those that began, then each contact's force.
+// A grain touches a mesh at a few features at once; the hand-over keeps the first
+// kMaxHandOver ended contacts' histories (more would only be lost, not mixed up).
+template <int D, class Laws>
+template <class Normal>
+void DemSolver<D, Laws>::mesh_contacts(std::uint32_t k0, std::uint32_t k1, const Wall<D>& wall,
+                                       double& max_ratio, std::size_t& touching) {
+  using Vec = typename Space<D>::Vec;
+  using Rot = typename Space<D>::Rot;
+  constexpr std::size_t kMaxHandOver = 8;
+  auto& wl = world_.neighbors.wall_pairs;
+  const auto& p = world_.particles;
+  const std::uint32_t i = wl.i[k0];
+  const bool rolling = with_rolling();
+  std::array<Vec, kMaxHandOver> shear;
+  std::array<Rot, kMaxHandOver> roll;
+  std::size_t ended = 0, taken = 0;
+  for (std::uint32_t k = k0; k < k1; ++k) {
+    const WallFeature<D> f = wall.contact(p.x[i], wl.element[k]);
+    feature_[k] = f;
+    const bool now = f.active && f.dist < p.radius[i];
+    const bool had =
+        wall_delta_[k] != 0.0 && (wl.force[k] != Vec::Zero() || wl.shear[k] != Vec::Zero());
+    if (had && (!now || wl.feature[k] != f.feature)) {
+      if (ended < kMaxHandOver) {
+        shear[ended] = wl.shear[k];
+        roll[ended++] = rolling ? wl.roll[k] : Space<D>::zero_rot();
+      }
+      wl.shear[k].setZero();
+      if (rolling) wl.roll[k] = Space<D>::zero_rot();
+      wall_delta_[k] = -1.0;  // the force it still holds is cleared below unless it touches
+      wl.feature[k] = now ? f.feature : wl.feature[k];
+      hand_over_[k] = now ? 1 : 0;
+    } else {
+      hand_over_[k] = now && !had ? 1 : 0;
+      if (now) wl.feature[k] = f.feature;
+    }
+  }
+  for (std::uint32_t k = k0; k < k1; ++k) {
+    if (hand_over_[k] && taken < ended) {
+      wl.shear[k] = shear[taken];
+      if (rolling) wl.roll[k] = roll[taken];
+      ++taken;
+    }
+    wall_contact<Normal>(k, wall, feature_[k], max_ratio, touching);
+  }
+}
+
+// Wall pair k's contact, at the feature f of its wall: its force on the grain, n x F and
+// overlap stored in its slots (for the grain's sum), and its rolling couple; raises max_ratio
+// to the overlap over the radius.
+template <int D, class Laws>
+template <class Normal>
+void DemSolver<D, Laws>::wall_contact(std::size_t k, const Wall<D>& wall, const WallFeature<D>& f,
+                                      double& max_ratio, std::size_t& touching) {
+  using S = Space<D>;
+  const auto& p = world_.particles;
+  auto& wl = world_.neighbors.wall_pairs;
+  const bool rolling = with_rolling();
+  const std::uint32_t i = wl.i[k];
+  ContactGeometry<D> g;
+  g.n = f.n;
+  g.delta = p.radius[i] - f.dist;
+  if (!f.active || g.delta <= 0.0) {
+    if (rolling && wall_delta_[k] != 0.0) {
+      wl.roll[k] = S::zero_rot();
+      wall_roll_[k] = S::zero_rot();
+    }
+    dem_detail::forget_if_ended(wl.shear.data(), wl.force.data(), wall_moment_.data(),
+                                wall_delta_.data(), k, S::zero_rot());
+    return;
+  }
+  // The lever arm is -(R_i - delta/2) n (see PairPass::touch); a turning wall's velocity is
+  // taken at the contact point.
+  const double arm = p.radius[i] - 0.5 * g.delta;
+  const typename S::Vec v_wall =
+      wall.turning() ? wall.velocity_at(p.x[i] - arm * g.n) : wall.velocity;
+  g.vrel = p.v[i] - v_wall - S::spin_velocity(arm * p.omega[i], g.n);
+  g.r_eff = p.radius[i];
+  g.m_eff = p.mass[i];
+  const PairParams& pp = world_.materials.pair(p.material[i], wall.material);
+  const typename S::Vec force =
+      contact_force<D, Normal>(g, pp, world_.model, world_.dt, wl.shear[k]);
+  wl.force[k] = force;
+  wall_moment_[k] = S::moment(g.n, force);
+  wall_delta_[k] = g.delta;
+  if (rolling)  // the relative spin: the grain's less the wall's
+    wall_roll_[k] = rolling_couple<D, Normal>(
+        g, pp, world_.model, world_.dt, force,
+        wall.turning() ? typename S::Rot(p.omega[i] - wall.spin) : p.omega[i], roll_inv_ic_[i], 0.0,
+        wl.roll[k]);
+  max_ratio = std::max(max_ratio, g.delta / p.radius[i]);
+  ++touching;
+}
+
+// Stage total_wall_forces (printed "closing"): each wall's total force and torque about its
+// pivot, and a mesh's force per element, from its contacts' forces in list order, once every
+// contact's force is final. Contact point x_c = x_i - (R_i - delta/2) n, so the torque of
+// -F there is -(x_i - pivot) x F + (R_i - delta/2) n x F.
+template <int D, class Laws>
+void DemSolver<D, Laws>::total_wall_forces() {
+  using S = Space<D>;
+  const auto& wl = world_.neighbors.wall_pairs;
+  const auto& p = world_.particles;
+  for (auto& wall : world_.walls) {
+    wall.force.setZero();
+    wall.torque = S::zero_rot();
+    wall.element_force.assign(wall.is_mesh() ? wall.elements() : 0, S::zero());
+  }
+  for (std::size_t k = 0; k < wl.size(); ++k) {
+    Wall<D>& wall = world_.walls[wl.wall[k]];
+    const auto& f = wl.force[k];
+    wall.force -= f;
+    if (wall_delta_[k] <= 0.0) continue;
+    const std::uint32_t i = wl.i[k];
+    wall.torque +=
+        (p.radius[i] - 0.5 * wall_delta_[k]) * wall_moment_[k] - S::moment(p.x[i] - wall.pivot, f);
+    if (!wall.element_force.empty()) wall.element_force[wl.element[k]] -= f;
+  }
+}
+
+}  // namespace sable

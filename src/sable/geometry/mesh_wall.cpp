@@ -1,0 +1,205 @@
+#include "sable/geometry/mesh_wall.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace sable {
+
+template <int D>
+MeshShape<D>::MeshShape(SurfaceMesh<D> mesh, Vec& origin) {
+  Vec lo = mesh.vertices.front(), hi = lo;
+  for (const Vec& v : mesh.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  origin = 0.5 * (lo + hi);
+  for (Vec& v : mesh.vertices) {
+    v -= origin;
+    extent_ = std::max(extent_, v.norm());
+  }
+  tol_ = 1e-12 * std::max((hi - lo).norm(), std::numeric_limits<double>::min());
+  surface_ = std::make_shared<const SurfaceMesh<D>>(std::move(mesh));
+  place(Matrix::Identity(), origin);
+}
+
+template <int D>
+void MeshShape<D>::place(const Matrix& r, const Vec& point) {
+  const auto& s = *surface_;
+  x_.resize(s.vertices.size());
+  for (std::size_t v = 0; v < x_.size(); ++v) x_[v] = r * s.vertices[v] + point;
+  derive();
+}
+
+// Normals, in-plane edge normals and edge directions at the current pose.
+template <int D>
+void MeshShape<D>::derive() {
+  const auto& s = *surface_;
+  normal_.resize(s.size());
+  if constexpr (D == 3) {
+    inward_.resize(s.size());
+    for (std::size_t t = 0; t < s.size(); ++t) {
+      const auto& c = s.elements[t];
+      const Vec n = (x_[c[1]] - x_[c[0]]).cross(x_[c[2]] - x_[c[0]]).normalized();
+      normal_[t] = n;
+      for (int k = 0; k < 3; ++k) {
+        const Vec e =
+            x_[c[static_cast<std::size_t>((k + 1) % 3)]] - x_[c[static_cast<std::size_t>(k)]];
+        inward_[t][static_cast<std::size_t>(k)] = n.cross(e).normalized();
+      }
+    }
+    dir_.resize(s.edges.size());
+    for (std::size_t e = 0; e < s.edges.size(); ++e)
+      dir_[e] = (x_[s.edges[e][1]] - x_[s.edges[e][0]]).normalized();
+  } else {
+    dir_.resize(s.size());
+    for (std::size_t t = 0; t < s.size(); ++t) {
+      dir_[t] = (x_[s.elements[t][1]] - x_[s.elements[t][0]]).normalized();
+      normal_[t] = Vec(-dir_[t].y(), dir_[t].x());
+    }
+  }
+}
+
+template <int D>
+void MeshShape<D>::element_box(std::uint32_t e, Vec& lo, Vec& hi) const {
+  const auto& c = surface_->elements[e];
+  lo = hi = x_[c[0]];
+  for (int k = 1; k < D; ++k) {
+    lo = lo.cwiseMin(x_[c[static_cast<std::size_t>(k)]]);
+    hi = hi.cwiseMax(x_[c[static_cast<std::size_t>(k)]]);
+  }
+}
+
+// The closest point of a segment a-b to x.
+template <class Vec>
+static Vec closest_on_segment(const Vec& a, const Vec& b, const Vec& x) {
+  const Vec ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((x - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return a + t * ab;
+}
+
+template <int D>
+double MeshShape<D>::element_distance(const Vec& x, std::uint32_t e) const {
+  const auto& c = surface_->elements[e];
+  if constexpr (D == 2) {
+    return (x - closest_on_segment(x_[c[0]], x_[c[1]], x)).norm();
+  } else {
+    // Inside the triangle's prism: the distance to its plane; else to its nearest edge.
+    bool inside = true;
+    for (int k = 0; k < 3; ++k) inside = inside && edge_function(e, k, x) >= 0.0;
+    if (inside) return std::abs((x - x_[c[0]]).dot(normal_[e]));
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < 3; ++k)
+      best = std::min(best, (x - closest_on_segment(x_[c[k]], x_[c[(k + 1) % 3]], x)).norm());
+    return best;
+  }
+}
+
+template <int D>
+double MeshShape<D>::edge_function(std::uint32_t t, int k, const Vec& c) const {
+  const auto& corner = surface_->elements[t];
+  return (c - x_[corner[static_cast<std::size_t>(k)]]).dot(inward_[t][static_cast<std::size_t>(k)]);
+}
+
+// The contact with the surface point p of element e, nearest to c: its normal points from p
+// to c (the element's own normal when c lies on p).
+template <int D>
+void MeshShape<D>::point_feature(const Vec& c, const Vec& p, std::uint32_t e,
+                                 WallFeature<D>& f) const {
+  const Vec d = c - p;
+  f.dist = d.norm();
+  f.n = f.dist > 0.0 ? Vec(d / f.dist) : normal_[e];
+}
+
+// Edge `edge` (3D) or segment `edge` (2D) holds c's nearest point: c projects strictly inside
+// it, and (3D) not into either of its triangles.
+template <int D>
+bool MeshShape<D>::edge_region(std::uint32_t edge, const Vec& c, WallFeature<D>& f) const {
+  const auto& s = *surface_;
+  const auto ends = D == 3 ? s.edges[edge]
+                           : std::array<std::uint32_t, 2>{s.elements[edge][0], s.elements[edge][1]};
+  const double alpha = (c - x_[ends[0]]).dot(dir_[edge]);
+  const double beta = (c - x_[ends[1]]).dot(dir_[edge]);
+  if (!(alpha > tol_ && beta < -tol_)) return false;
+  std::uint32_t owner = edge;
+  if constexpr (D == 3) {
+    for (std::uint32_t t : s.edge_elements[edge]) {
+      if (t == kNoElement) continue;
+      const auto& te = s.element_edges[t];
+      const int k = te[0] == edge ? 0 : (te[1] == edge ? 1 : 2);
+      if (edge_function(t, k, c) > tol_) return false;
+    }
+    owner = s.edge_owner[edge];
+    f.feature = static_cast<std::uint32_t>(s.size()) + edge;
+  } else {
+    f.feature = edge;
+  }
+  point_feature(c, x_[ends[0]] + alpha * dir_[edge], owner, f);
+  return true;
+}
+
+// Vertex v holds c's nearest point: c's projection on each of its edges lies at or beyond v.
+template <int D>
+bool MeshShape<D>::vertex_region(std::uint32_t v, const Vec& c, WallFeature<D>& f) const {
+  const auto& s = *surface_;
+  for (std::uint32_t k = s.vertex_edge_begin[v]; k < s.vertex_edge_begin[v + 1]; ++k) {
+    const std::uint32_t edge = s.vertex_edges[k];
+    const auto ends = D == 3
+                          ? s.edges[edge]
+                          : std::array<std::uint32_t, 2>{s.elements[edge][0], s.elements[edge][1]};
+    if (ends[0] == v) {
+      if ((c - x_[ends[0]]).dot(dir_[edge]) > tol_) return false;
+    } else if ((c - x_[ends[1]]).dot(dir_[edge]) < -tol_) {
+      return false;
+    }
+  }
+  const auto before = static_cast<std::uint32_t>(s.size() + s.edges.size());
+  f.feature = before + v;
+  point_feature(c, x_[v], s.vertex_owner[v], f);
+  return true;
+}
+
+template <int D>
+WallFeature<D> MeshShape<D>::contact(const Vec&, const Vec& c, std::uint32_t e) const {
+  const auto& s = *surface_;
+  const auto& corner = s.elements[e];
+  WallFeature<D> f;
+  if constexpr (D == 3) {
+    if (edge_function(e, 0, c) > tol_ && edge_function(e, 1, c) > tol_ &&
+        edge_function(e, 2, c) > tol_) {
+      const double h = (c - x_[corner[0]]).dot(normal_[e]);
+      f.dist = std::abs(h);
+      f.n = h >= 0.0 ? normal_[e] : Vec(-normal_[e]);
+      f.feature = e;
+      return f;
+    }
+    for (std::uint32_t edge : s.element_edges[e])
+      if (s.edge_owner[edge] == e && edge_region(edge, c, f)) return f;
+  } else {
+    if (edge_region(e, c, f)) return f;
+  }
+  for (std::uint32_t v : corner)
+    if (s.vertex_owner[v] == e && vertex_region(v, c, f)) return f;
+  f.active = false;
+  return f;
+}
+
+template <int D>
+double MeshShape<D>::distance(const Vec&, const Vec& x, Vec& n) const {
+  double best = std::numeric_limits<double>::infinity();
+  n = Vec::Zero();
+  for (std::uint32_t e = 0; e < elements(); ++e) {
+    const WallFeature<D> f = contact(x, x, e);
+    if (f.active && f.dist < best) {
+      best = f.dist;
+      n = f.n;
+    }
+  }
+  return best;
+}
+
+template struct MeshShape<2>;
+template struct MeshShape<3>;
+
+}  // namespace sable

@@ -1,0 +1,80 @@
+// A mesh wall: a surface of triangles (3D) or segments (2D) that grains touch from either side.
+//
+// Contact with a mesh is contact with the surface it describes, resolved feature by feature:
+// for a grain centre c, a feature (face, edge, vertex) gives a contact only where c lies in its
+// region, where the feature holds the nearest surface point among its neighbours. Then:
+//   - over a flat part, one contact whether c is above a face, a shared edge or a shared
+//     vertex (a coplanar edge's region is a plane, and the faces' regions stop exactly there);
+//   - beside a convex edge (facets at an angle), one contact, on the edge;
+//   - in a concave corner, one contact per face (an edge there has no region of its own).
+// The tests use the same numbers on both sides of every border between regions: face t
+// needs its three edge functions e_tk(c) = (c - corner_k) . u_tk (u_tk the unit in-plane
+// normal of edge k, into t) above `tol`; edge E needs e_tk(c) <= tol on each of its
+// triangles and c's projection strictly inside E; vertex V needs c's projection on each of
+// its edges at or beyond V. A region's border thus belongs to exactly one side whatever the
+// round-off, so no grain gets two contacts, or none, on a flat mesh.
+//
+// A feature's contact is kept in the list entry of its owner, its element of lowest index
+// (geometry/surface_mesh.hpp): each element entry answers for its face and the edges and
+// vertices it owns, at most one of them at a time. The body frame's origin is the centre of
+// the mesh's bounding box at the start, so that the rebuild test's bound on how far a turning
+// mesh moved (angle times the largest vertex distance from the origin) is tight.
+#pragma once
+
+#include <memory>
+
+#include "sable/geometry/surface_mesh.hpp"
+#include "sable/geometry/wall_feature.hpp"
+
+namespace sable {
+
+template <int D>
+struct MeshShape {
+  using Vec = typename Space<D>::Vec;
+  using Matrix = typename Space<D>::Matrix;
+  static constexpr const char* kName = "mesh";
+  static constexpr bool kBounded = true;  // its elements are binned in the grains' cells
+
+  MeshShape() = default;
+  // The mesh as placed at the start (world coordinates); `origin` receives the body frame's
+  // origin, the wall's starting point.
+  MeshShape(SurfaceMesh<D> mesh, Vec& origin);
+
+  std::uint32_t elements() const { return static_cast<std::uint32_t>(surface_->size()); }
+  const SurfaceMesh<D>& surface() const { return *surface_; }
+  // World positions of the vertices at the current pose.
+  const std::vector<Vec>& vertices() const { return x_; }
+  // The largest distance of a vertex from the body origin (m).
+  double extent() const { return extent_; }
+
+  // Broad phase: element e's bounding box, and the exact distance from x to element e.
+  void element_box(std::uint32_t e, Vec& lo, Vec& hi) const;
+  double element_distance(const Vec& x, std::uint32_t e) const;
+  // The feature element e answers for at grain centre x (see the file comment).
+  WallFeature<D> contact(const Vec& point, const Vec& x, std::uint32_t e) const;
+  // The nearest surface point over all elements (for checks outside the time loop: initial
+  // overlaps, the analysis of a snapshot). Unsigned: n points from the surface to x.
+  double distance(const Vec& point, const Vec& x, Vec& n) const;
+  void place(const Matrix& r, const Vec& point);
+
+  // The element's unit normal (3D: right-hand rule; 2D: the segment's direction turned +90
+  // degrees) at the current pose.
+  const Vec& element_normal(std::uint32_t e) const { return normal_[e]; }
+
+ private:
+  double edge_function(std::uint32_t t, int k, const Vec& c) const;
+  bool edge_region(std::uint32_t edge, const Vec& c, WallFeature<D>& f) const;
+  bool vertex_region(std::uint32_t v, const Vec& c, WallFeature<D>& f) const;
+  void point_feature(const Vec& c, const Vec& p, std::uint32_t e, WallFeature<D>& f) const;
+  void derive();
+
+  std::shared_ptr<const SurfaceMesh<D>> surface_;  // body frame; shared by copies
+  std::vector<Vec> x_;                             // vertices at the current pose
+  std::vector<Vec> normal_;                        // per element
+  std::vector<std::array<Vec, 3>> inward_;         // 3D: per triangle edge, unit, into it
+  std::vector<Vec> dir_;  // unit direction of each edge (3D) or segment (2D), first to second
+  double tol_ = 0.0;      // 1e-12 of the mesh's size: the regions' borders
+  double extent_ = 0.0;
+};
+
+}  // namespace sable
