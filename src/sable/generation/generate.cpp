@@ -85,7 +85,8 @@ bool inside_region(const RegionConfig& r, const Vec3a& x, double rad, int dim) {
          x[2] + rad <= r.zhi + tol;
 }
 
-std::vector<GrainSeed> lattice(const GrainsConfig& b, int dim, std::uint64_t seed) {
+std::vector<GrainSeed> lattice(const GrainsConfig& b, int dim, std::uint64_t seed,
+                               const Blocked& blocked) {
   Rng rng(seed);
   RadiusSampler radii(b.radius, rng);
   const double s = b.spacing.value_or(2.0 * radii.max());
@@ -122,11 +123,11 @@ std::vector<GrainSeed> lattice(const GrainsConfig& b, int dim, std::uint64_t see
         x[0] += shift;
         const double r = radii.next();
         for (int d = 0; d < dim; ++d) x[d] += jitter();
-        if (!inside_region(b.region, x, r, dim)) {
+        if (!inside_region(b.region, x, r, dim) || (blocked && blocked(x, r))) {
           if (++skipped > max_skipped)
             throw InputError(fmt::format(
-                "{}: grains: {} lattice sites lie outside the region for {} grains placed of {} "
-                "(is the jitter of {:g} m larger than the region?)",
+                "{}: grains: {} lattice sites lie outside the region or on a wall for {} grains "
+                "placed of {} (is the jitter of {:g} m larger than the region?)",
                 b.loc.str(), skipped, out.size(), b.count, b.jitter));
           continue;
         }
@@ -196,7 +197,8 @@ class InsertionGrid {
 };
 
 std::vector<GrainSeed> random_insertion(const GrainsConfig& b, int dim, std::uint64_t seed,
-                                        const std::vector<GrainSeed>& existing) {
+                                        const std::vector<GrainSeed>& existing,
+                                        const Blocked& blocked) {
   Rng rng(seed);
   RadiusSampler radii(b.radius, rng);
   Vec3a lo, hi;
@@ -212,6 +214,7 @@ std::vector<GrainSeed> random_insertion(const GrainsConfig& b, int dim, std::uin
       Vec3a x{0, 0, 0};
       for (int d = 0; d < dim; ++d) x[d] = rng.uniform(lo[d] + r, hi[d] - r);
       if (!inside_region(b.region, x, r, dim) || !grid.free(x, r, all)) continue;
+      if (blocked && blocked(x, r)) continue;
       all.push_back({x, r});
       grid.insert(all.size() - 1, all.back());
       ok = true;
@@ -288,9 +291,10 @@ std::vector<GrainSeed> read_lammps_data(const std::string& path, int dim) {
 }
 
 std::vector<GrainSeed> generate_grains(const GrainsConfig& b, int dim, std::uint64_t seed,
-                                       const std::vector<GrainSeed>& existing) {
-  if (b.generator == "lattice") return lattice(b, dim, seed);
-  if (b.generator == "random") return random_insertion(b, dim, seed, existing);
+                                       const std::vector<GrainSeed>& existing,
+                                       const Blocked& blocked) {
+  if (b.generator == "lattice") return lattice(b, dim, seed, blocked);
+  if (b.generator == "random") return random_insertion(b, dim, seed, existing, blocked);
   if (b.generator == "file") return read_lammps_data(b.file, dim);
   // "list"
   std::vector<GrainSeed> out;

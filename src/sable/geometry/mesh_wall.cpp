@@ -19,6 +19,14 @@ MeshShape<D>::MeshShape(SurfaceMesh<D> mesh, Vec& origin) {
     extent_ = std::max(extent_, v.norm());
   }
   tol_ = 1e-12 * std::max((hi - lo).norm(), std::numeric_limits<double>::min());
+  if constexpr (D == 3) {
+    closed_ = std::all_of(mesh.edge_elements.begin(), mesh.edge_elements.end(),
+                          [](const auto& t) { return t[1] != kNoElement; });
+  } else {
+    closed_ = true;
+    for (std::size_t v = 0; v + 1 < mesh.vertex_edge_begin.size(); ++v)
+      closed_ = closed_ && mesh.vertex_edge_begin[v + 1] - mesh.vertex_edge_begin[v] == 2;
+  }
   surface_ = std::make_shared<const SurfaceMesh<D>>(std::move(mesh));
   place(Matrix::Identity(), origin);
 }
@@ -28,6 +36,11 @@ void MeshShape<D>::place(const Matrix& r, const Vec& point) {
   const auto& s = *surface_;
   x_.resize(s.vertices.size());
   for (std::size_t v = 0; v < x_.size(); ++v) x_[v] = r * s.vertices[v] + point;
+  lo_ = hi_ = x_.front();
+  for (const Vec& x : x_) {
+    lo_ = lo_.cwiseMin(x);
+    hi_ = hi_.cwiseMax(x);
+  }
   derive();
 }
 
@@ -197,6 +210,27 @@ double MeshShape<D>::distance(const Vec&, const Vec& x, Vec& n) const {
     }
   }
   return best;
+}
+
+template <int D>
+bool MeshShape<D>::encloses(const Vec& x) const {
+  if (!closed_) return false;
+  double total = 0.0;
+  for (const auto& e : surface_->elements) {
+    if constexpr (D == 3) {
+      // Solid angle of the triangle seen from x (Van Oosterom and Strackee, 1983).
+      const Vec a = x_[e[0]] - x, b = x_[e[1]] - x, c = x_[e[2]] - x;
+      const double la = a.norm(), lb = b.norm(), lc = c.norm();
+      const double num = a.dot(b.cross(c));
+      const double den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+      total += 2.0 * std::atan2(num, den);
+    } else {
+      const Vec a = x_[e[0]] - x, b = x_[e[1]] - x;
+      total += std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+    }
+  }
+  // 4 pi (2D: 2 pi) inside, 0 outside; the sign follows the winding.
+  return std::abs(total) > (D == 3 ? 2.0 : 1.0) * 3.14159265358979323846;
 }
 
 template struct MeshShape<2>;

@@ -56,6 +56,15 @@ struct MeshShape {
   // overlaps, the analysis of a snapshot). Unsigned: n points from the surface to x.
   double distance(const Vec& point, const Vec& x, Vec& n) const;
   void place(const Matrix& r, const Vec& point);
+  // Whether x lies inside the solid a closed surface bounds (its winding number about x,
+  // summed from the elements' signed solid angles, 2D: angles, is not 0); false for an open
+  // surface. For placing grains around a body, not in the time loop: O(elements).
+  bool encloses(const Vec& x) const;
+  bool closed() const { return closed_; }
+  // Whether x lies within `margin` of the bounding box of the current vertices.
+  bool near(const Vec& x, double margin) const {
+    return ((x.array() >= lo_.array() - margin) && (x.array() <= hi_.array() + margin)).all();
+  }
 
   // The element's unit normal (3D: right-hand rule; 2D: the segment's direction turned +90
   // degrees) at the current pose.
@@ -75,6 +84,8 @@ struct MeshShape {
   std::vector<Vec> dir_;  // unit direction of each edge (3D) or segment (2D), first to second
   double tol_ = 0.0;      // 1e-12 of the mesh's size: the regions' borders
   double extent_ = 0.0;
+  bool closed_ = false;
+  Vec lo_ = Vec::Zero(), hi_ = Vec::Zero();  // bounding box of the current vertices
 };
 
 }  // namespace sable

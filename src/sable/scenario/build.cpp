@@ -142,17 +142,37 @@ void check_masses(const ScenarioConfig& cfg, const World<D>& w) {
   }
 }
 
+// A generated grain may not overlap a wall by more than the initial overlap the scenario
+// allows (the check of check_initial_state: a scenario it accepts generates the same grains)
+// nor sit behind a plane or inside a closed mesh (a body the grains are poured around).
+template <int D>
+Blocked wall_blocker(const ScenarioConfig& cfg, const World<D>& w) {
+  if (w.walls.empty()) return {};
+  return [&cfg, &w](const Vec3a& xa, double r) {
+    const typename Space<D>::Vec x = Space<D>::from_array(xa);
+    typename Space<D>::Vec n;
+    for (const auto& wall : w.walls) {
+      const auto* m = wall.mesh();
+      if (m && !m->near(x, r)) continue;  // the exact tests cost O(elements)
+      if (wall.distance(x, n) < r * (1.0 - cfg.sim.initial_overlap)) return true;
+      if (m && m->encloses(x)) return true;
+    }
+    return false;
+  };
+}
+
 }  // namespace
 
 template <int D>
 void build_grains(const ScenarioConfig& cfg, World<D>& w) {
   using S = Space<D>;
   std::vector<GrainSeed> all;
+  const Blocked blocked = wall_blocker(cfg, w);
   for (std::size_t b = 0; b < cfg.grains.size(); ++b) {
     const GrainsConfig& block = cfg.grains[b];
     // Each block gets its own stream: adding a block does not change the grains of the others.
     const std::uint64_t seed = block.seed.value_or(cfg.sim.seed + 0x9e3779b97f4a7c15ULL * (b + 1));
-    const auto seeds = generate_grains(block, D, seed, all);
+    const auto seeds = generate_grains(block, D, seed, all, blocked);
     const MaterialIndex mat = material_index(w, block.material);
     const Material& m = w.materials[mat];
     for (const auto& g : seeds) {
