@@ -57,8 +57,12 @@ void DemSolver<D, Laws>::mesh_contacts(std::uint32_t k0, std::uint32_t k1, const
   std::array<Vec, kMaxHandOver> shear;
   std::array<Rot, kMaxHandOver> roll;
   std::size_t ended = 0, taken = 0;
+  const MeshShape<D>& mesh = *wall.mesh();
   for (std::uint32_t k = k0; k < k1; ++k) {
-    const WallFeature<D> f = wall.contact(p.x[i], wl.element[k]);
+    WallFeature<D> f;
+    f.active = false;  // an element out of reach holds no touching feature
+    if (mesh.may_touch(p.x[i], p.radius[i], wl.element[k]))
+      f = mesh.contact(wall.point, p.x[i], wl.element[k]);
     feature_[k] = f;
     const bool now = f.active && f.dist < p.radius[i];
     const bool had =

@@ -49,6 +49,15 @@ template <int D>
 void MeshShape<D>::derive() {
   const auto& s = *surface_;
   normal_.resize(s.size());
+  ball_.resize(s.size());
+  for (std::size_t t = 0; t < s.size(); ++t) {
+    Vec c = Vec::Zero();
+    for (std::uint32_t v : s.elements[t]) c += x_[v];
+    c /= static_cast<double>(D);
+    double r2 = 0.0;
+    for (std::uint32_t v : s.elements[t]) r2 = std::max(r2, (x_[v] - c).squaredNorm());
+    ball_[t] = {c, std::sqrt(r2) * (1.0 + 1e-12)};  // rounding of r2 never shrinks it
+  }
   if constexpr (D == 3) {
     inward_.resize(s.size());
     for (std::size_t t = 0; t < s.size(); ++t) {

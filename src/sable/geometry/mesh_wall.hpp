@@ -66,6 +66,13 @@ struct MeshShape {
     return ((x.array() >= lo_.array() - margin) && (x.array() <= hi_.array() + margin)).all();
   }
 
+  // False when no point of element e lies within r of x (its bounding sphere is farther):
+  // the cheap test that spares the feature regions of the elements a grain only nears.
+  bool may_touch(const Vec& x, double r, std::uint32_t e) const {
+    const double reach = r + ball_[e].radius;
+    return (x - ball_[e].centre).squaredNorm() < reach * reach;
+  }
+
   // The element's unit normal (3D: right-hand rule; 2D: the segment's direction turned +90
   // degrees) at the current pose.
   const Vec& element_normal(std::uint32_t e) const { return normal_[e]; }
@@ -80,7 +87,12 @@ struct MeshShape {
   std::shared_ptr<const SurfaceMesh<D>> surface_;  // body frame; shared by copies
   std::vector<Vec> x_;                             // vertices at the current pose
   std::vector<Vec> normal_;                        // per element
-  std::vector<std::array<Vec, 3>> inward_;         // 3D: per triangle edge, unit, into it
+  struct Ball {
+    Vec centre;
+    double radius;
+  };
+  std::vector<Ball> ball_;  // per element: a sphere holding it (centroid, farthest corner)
+  std::vector<std::array<Vec, 3>> inward_;  // 3D: per triangle edge, unit, into it
   std::vector<Vec> dir_;  // unit direction of each edge (3D) or segment (2D), first to second
   double tol_ = 0.0;      // 1e-12 of the mesh's size: the regions' borders
   double extent_ = 0.0;
