@@ -10,6 +10,8 @@
 #include "sable/core/error.hpp"
 #include "sable/dem/dem_solver.hpp"
 #include "sable/generation/generate.hpp"
+#include "sable/geometry/surface_mesh.hpp"
+#include "sable/io/stl.hpp"
 #include "sable/scenario/initial_state.hpp"
 #include "sable/world/critical_time.hpp"
 
@@ -22,23 +24,63 @@ MaterialIndex material_index(const World<D>& w, const std::string& name) {
   return *w.materials.find(name);
 }
 
+// A mesh wall's surface as the scenario describes it: the STL file (3D) or the built-in shape.
+template <int D>
+SurfaceMesh<D> mesh_surface(const MeshConfig& m) {
+  using S = Space<D>;
+  if constexpr (D == 3) {
+    if (!m.file.empty()) return read_stl(m.file, m.scale, S::from_array(m.offset));
+    if (m.shape == "cylinder")
+      return cylinder_surface(S::from_array(m.center), S::from_array(m.axis), m.radius, m.length,
+                              m.facets, m.segments, m.caps, m.key);
+  } else {
+    if (m.shape == "circle")
+      return circle_surface(S::from_array(m.center), m.radius, m.facets, m.key);
+    if (m.shape == "polyline") {
+      std::vector<typename S::Vec> points;
+      std::vector<typename SurfaceMesh<2>::Element> segments;
+      for (const Vec3a& p : m.points) points.push_back(S::from_array(p));
+      const auto n = static_cast<std::uint32_t>(points.size());
+      for (std::uint32_t k = 0; k + 1 < n; ++k) segments.push_back({k, k + 1});
+      if (m.closed) segments.push_back({n - 1, 0});
+      return build_surface<2>(std::move(points), std::move(segments), m.key);
+    }
+  }
+  if (m.shape == "box") return box_surface<D>(S::from_array(m.lo), S::from_array(m.hi), m.key);
+  // The parser accepts no other; a MeshConfig built by hand may hold anything.
+  throw InputError(
+      fmt::format("{}: no mesh file and no {}D built-in shape \"{}\"", m.key, D, clip(m.shape)));
+}
+
+// The mesh wall's surface, made now (the file read, every element checked); an error names the
+// scenario's [[wall]] table and then, from the mesh, the file or shape and the element.
+template <int D>
+void set_mesh(const WallConfig& wc, Wall<D>& wall) {
+  try {
+    wall.set_mesh(mesh_surface<D>(wc.mesh));
+  } catch (const InputError& e) {
+    const std::string key = wc.mesh.file.empty() ? std::string() : wc.mesh.key + ": ";
+    throw InputError(
+        fmt::format("{}: [[wall]] {}: {}{}", wc.loc.str(), clip(wc.name), key, e.what()));
+  }
+}
+
 template <int D>
 void add_walls(const WallConfig& wc, World<D>& w) {
   using S = Space<D>;
   Wall<D> wall;
+  wall.name = wc.name;
   wall.material = material_index(w, wc.material);
   wall.velocity = S::from_array(wc.velocity);
   if (wc.type == "plane") {
-    wall.name = wc.name;
     wall.point = S::from_array(wc.point);
     wall.shape = PlaneShape<D>(S::from_array(wc.normal).normalized());
-    w.walls.push_back(wall);
   } else if (wc.type == "cylinder") {
-    wall.name = wc.name;
     wall.shape = CylinderShape<D>(wc.radius);
     wall.point = S::from_array({wc.center[0], wc.center[1], 0.0});
-    w.walls.push_back(wall);
-  } else {  // box: one plane per face, normals pointing inwards
+  } else if (wc.type == "mesh") {
+    set_mesh(wc, wall);
+  } else {  // box: one plane per face, normals pointing inwards (the parser gives no rotation)
     static constexpr const char* axes = "xyz";
     for (int d = 0; d < D; ++d) {
       for (int side = 0; side < 2; ++side) {
@@ -51,7 +93,11 @@ void add_walls(const WallConfig& wc, World<D>& w) {
         w.walls.push_back(face);
       }
     }
+    return;
   }
+  if (const auto& r = wc.rotation)
+    wall.set_rotation(S::from_array(r->point), S::from_array(r->axis), r->rate);
+  w.walls.push_back(std::move(wall));
 }
 
 // The registry's rows for the names the parser accepted. A ContactConfig built by hand may

@@ -99,15 +99,48 @@ struct ContactConfig {
   SourceLoc loc;
 };
 
+// A wall's turning (Wall::set_rotation): `rate` (rad/s) about the line through `point` along
+// `axis` (3D, right-hand rule; any non-zero length); in 2D about z through `point`, positive
+// counter-clockwise. rate = 0: not turning, but `point` is the pivot the torque is taken about.
+struct RotationConfig {
+  Vec3a point{0, 0, 0};
+  Vec3a axis{0, 0, 1};
+  double rate = 0.0;
+};
+
+// The surface of a mesh wall (type = "mesh"): an STL file (3D) or one built-in shape
+// (geometry/surface_mesh.hpp), made when the world is built (scenario/build.cpp).
+struct MeshConfig {
+  std::string file;       // the STL file, relative paths resolved against the scenario's folder
+  double scale = 1.0;     // file only: each corner x is read as scale * x + offset
+  Vec3a offset{0, 0, 0};  // file only (m)
+  std::string shape;      // without a file: "cylinder" (3D), "circle" (2D), "box", "polyline" (2D)
+  Vec3a center{0, 0, 0};  // cylinder, circle
+  Vec3a axis{0, 0, 1};    // cylinder
+  double radius = 0.0;    // cylinder, circle (m)
+  double length = 0.0;    // cylinder (m)
+  int facets = 32;        // cylinder, circle: sides round the axis
+  int segments = 1;       // cylinder: rows of facets along the length
+  bool caps = true;       // cylinder: closed ends
+  Vec3a lo{0, 0, 0}, hi{0, 0, 0};  // box
+  std::vector<Vec3a> points;       // polyline: its corners in order
+  bool closed = false;             // polyline: a last segment back to the first point
+  // The scenario key that gives the surface, for messages: "wall[0].file" or
+  // "wall[0].shape.cylinder".
+  std::string key;
+};
+
 struct WallConfig {
   std::string name;
-  std::string type = "plane";  // "plane" | "box" | "cylinder"
+  std::string type = "plane";  // "plane" | "box" | "cylinder" | "mesh"
   std::string material;
   Vec3a point{0, 0, 0}, normal{0, 0, 0};  // plane
   Vec3a lo{0, 0, 0}, hi{0, 0, 0};         // box: expands to planes NAME.xlo, NAME.xhi, ...
   Vec3a center{0, 0, 0};                  // cylinder (inside), axis along z
   double radius = 0.0;
+  MeshConfig mesh;  // mesh
   Vec3a velocity{0, 0, 0};
+  std::optional<RotationConfig> rotation;  // turning from the start (not a box)
   SourceLoc loc;
 };
 
@@ -125,6 +158,8 @@ struct StageConfig {
   // rest, so it does not change a static state; 0 (default) leaves the dynamics untouched.
   double viscous_damping = 0.0;
   std::map<std::string, Vec3a> wall_velocity;  // set at stage start: wall name -> velocity
+  // Set at stage start (Wall::set_rotation): wall name (not a box or its planes) -> turning.
+  std::map<std::string, RotationConfig> wall_rotation;
   // Stress control (loading/servo.hpp): wall or box name -> target normal stress (Pa); the
   // walls move at most servo_max_velocity (required with wall_stress), with servo_gain (m/s per
   // Pa; 0: max velocity / largest target). stress_tolerance (relative) adds "every target

@@ -15,6 +15,7 @@
 #include "sable/core/error.hpp"
 #include "sable/scenario/config.hpp"
 #include "sable/scenario/parse_contact.hpp"
+#include "sable/scenario/parse_walls.hpp"
 #include "sable/scenario/toml_reader.hpp"
 
 namespace sable {
@@ -24,6 +25,7 @@ namespace {
 using detail::in_quotes;
 using detail::kNonNegative;
 using detail::kPositive;
+using detail::material_ref;
 using detail::Range;
 using detail::Table;
 
@@ -143,12 +145,6 @@ void check_material_name(const toml::node& node, const std::string& key, const s
   }
   detail::fail_value(node, key, file,
                      "the name of a [[material]] (known: " + detail::join_names(known, true) + ")");
-}
-
-std::string material_ref(const Table& t, const std::vector<MaterialConfig>& materials) {
-  std::string name = t.required_string("material");
-  check_material_name(*t.find("material"), t.key_path("material"), t.file(), name, materials);
-  return name;
 }
 
 PairOverrideConfig parse_pair(const Table& t, const std::vector<MaterialConfig>& materials) {
@@ -375,114 +371,7 @@ GrainsConfig parse_grains_entry(const Table& g, const ScenarioConfig& cfg) {
   return gc;
 }
 
-// --- [[wall]] ----------------------------------------------------------------------------------
-
-// The plane names a box wall expands to: NAME.xlo, NAME.xhi, ... (no z planes in 2D).
-std::vector<std::string> box_planes(const std::string& name, int dim) {
-  std::vector<std::string> out;
-  for (const char* axis : {"x", "y", "z"}) {
-    if (static_cast<int>(out.size()) == 2 * dim) break;
-    out.push_back(name + "." + axis + "lo");
-    out.push_back(name + "." + axis + "hi");
-  }
-  return out;
-}
-
-void parse_wall_geometry(const Table& t, WallConfig& w, int dim) {
-  if (w.type == "plane") {
-    w.point = t.required_vector("point", dim);
-    w.normal = t.required_vector("normal", dim);
-    const double len = std::sqrt(w.normal[0] * w.normal[0] + w.normal[1] * w.normal[1] +
-                                 w.normal[2] * w.normal[2]);
-    if (!(len > 0.0)) t.fail("normal", "a non-zero vector");
-    for (double& c : w.normal) c /= len;
-  } else if (w.type == "box") {
-    w.lo = t.required_vector("lo", dim);
-    w.hi = t.required_vector("hi", dim);
-    detail::check_ordered(t, "lo", "hi", w.lo, w.hi, dim);
-  } else {
-    if (dim != 3) t.fail("type", "\"plane\" or \"box\" (a cylinder wall needs dimension = 3)");
-    w.center = t.required_vector("center", 2);
-    w.radius = t.required_number("radius", kPositive);
-  }
-}
-
-WallConfig parse_wall(const Table& t, const ScenarioConfig& cfg) {
-  t.check_keys(
-      {"name", "type", "material", "velocity", "point", "normal", "lo", "hi", "center", "radius"});
-  WallConfig w;
-  w.name = t.required_string("name");
-  w.type = t.choice("type", {"plane", "box", "cylinder"}, w.type);
-  const std::string why = "to type = " + in_quotes(w.type);
-  for (const char* key : {"point", "normal"}) {
-    if (w.type != "plane") t.reject(key, why + " (only to \"plane\")");
-  }
-  for (const char* key : {"lo", "hi"}) {
-    if (w.type != "box") t.reject(key, why + " (only to \"box\")");
-  }
-  for (const char* key : {"center", "radius"}) {
-    if (w.type != "cylinder") t.reject(key, why + " (only to \"cylinder\")");
-  }
-  w.material = material_ref(t, cfg.materials);
-  parse_wall_geometry(t, w, cfg.sim.dimension);
-  w.velocity = t.vector("velocity", cfg.sim.dimension).value_or(w.velocity);
-  w.loc = t.loc();
-  return w;
-}
-
-// Walls, and every name a stage may use for them (wall names and box plane names).
-std::vector<WallConfig> parse_walls(const Table& root, const ScenarioConfig& cfg,
-                                    std::vector<std::string>& names) {
-  std::vector<WallConfig> out;
-  for (const Table& t : root.table_array("wall")) {
-    WallConfig w = parse_wall(t, cfg);
-    std::vector<std::string> added{w.name};
-    if (w.type == "box") {
-      for (auto& plane : box_planes(w.name, cfg.sim.dimension)) added.push_back(plane);
-    }
-    for (const std::string& n : added) {
-      for (const std::string& prev : names) {
-        if (prev == n) t.fail("name", "a unique wall name (" + in_quotes(n) + " is already used)");
-      }
-    }
-    names.insert(names.end(), added.begin(), added.end());
-    out.push_back(std::move(w));
-  }
-  return out;
-}
-
 // --- [[stage]] ---------------------------------------------------------------------------------
-
-// wall_velocity = { floor = [...], "box.zhi" = [...] }; an unquoted box.zhi arrives as a
-// nested table { box = { zhi = [...] } } and is accepted the same way.
-void parse_wall_velocity(const Table& s, StageConfig& st, const std::vector<std::string>& names,
-                         int dim) {
-  const auto t = s.table("wall_velocity");
-  if (!t) return;
-  const std::string expected = names.empty()
-                                   ? std::string("a wall name (there are no [[wall]] tables)")
-                                   : "a wall name (known: " + detail::join_names(names) + ")";
-  for (auto&& [k, v] : t->raw()) {
-    const std::string name(k.str());
-    const std::string key = t->key_path(name);
-    if (v.is_table() && detail::contains(names, name + ".xlo")) {
-      const Table sub(*v.as_table(), key, s.file());
-      for (auto&& [pk, pv] : sub.raw()) {
-        const std::string plane = name + "." + std::string(pk.str());
-        if (!detail::contains(names, plane)) {
-          detail::fail_at(pk.source(), s.file(),
-                          "unknown wall " + sub.key_path(pk.str()) + ": expected " + expected);
-        }
-        st.wall_velocity[plane] = detail::to_vector(pv, sub.key_path(pk.str()), s.file(), dim);
-      }
-      continue;
-    }
-    if (!detail::contains(names, name)) {
-      detail::fail_at(k.source(), s.file(), "unknown wall " + key + ": expected " + expected);
-    }
-    st.wall_velocity[name] = detail::to_vector(v, key, s.file(), dim);
-  }
-}
 
 // wall_stress = { box = 1000.0 } or { "box.xlo" = 1000.0, ... }: a box name stands for all of
 // its planes; stress in Pa, compression positive.
@@ -537,11 +426,12 @@ void parse_wall_stress(const Table& s, StageConfig& st, const std::vector<std::s
 }
 
 StageConfig parse_stage(const Table& s, std::size_t index, const std::vector<std::string>& names,
-                        int dim, bool cd) {
+                        const ScenarioConfig& cfg) {
   s.check_keys({"name", "steps", "kinetic_energy_below", "max_steps", "check_interval",
-                "wall_velocity", "wall_stress", "servo_gain", "servo_max_velocity",
+                "wall_velocity", "wall_rotation", "wall_stress", "servo_gain", "servo_max_velocity",
                 "stress_tolerance", "stress_scale", "water_content", "liquid_density",
                 "kinetic_energy_of", "servo_wall_mass", "viscous_damping"});
+  const bool cd = cfg.sim.solver == "cd";
   StageConfig st;
   st.name = s.string("name").value_or("stage" + std::to_string(index));
   if (st.name.empty()) s.fail("name", "a non-empty string");
@@ -567,7 +457,8 @@ StageConfig parse_stage(const Table& s, std::size_t index, const std::vector<std
         s.choice("kinetic_energy_of", {"all", "translation"}, "all") == "translation";
   else
     s.reject("kinetic_energy_of", "to a stage with steps (only with kinetic_energy_below)");
-  parse_wall_velocity(s, st, names, dim);
+  detail::parse_wall_velocity(s, st, names, cfg.sim.dimension);
+  detail::parse_wall_rotation(s, st, cfg);
   parse_wall_stress(s, st, names, cd);
   st.viscous_damping = s.number_or("viscous_damping", kNonNegative, 0.0);
   if (cd && st.viscous_damping > 0.0)
@@ -623,6 +514,12 @@ void check_rolling(const Table& root, const ScenarioConfig& cfg) {
 
 }  // namespace
 
+std::string detail::material_ref(const Table& t, const std::vector<MaterialConfig>& materials) {
+  std::string name = t.required_string("material");
+  check_material_name(*t.find("material"), t.key_path("material"), t.file(), name, materials);
+  return name;
+}
+
 ScenarioConfig parse_scenario(const std::string& text, const std::string& path) {
   if (text.size() > kMaxScenarioBytes)
     throw InputError(fmt::format("{}: the scenario is {} bytes; at most {} (64 MiB) are read",
@@ -657,12 +554,11 @@ ScenarioConfig parse_scenario(const std::string& text, const std::string& path) 
                                   g.name(), grains, kMaxGrains));
   }
   std::vector<std::string> wall_names;
-  cfg.walls = parse_walls(root, cfg, wall_names);
+  cfg.walls = detail::parse_walls(root, cfg, wall_names);
   const auto stages = root.table_array("stage");
   if (stages.empty()) root.fail_missing("stage", "at least one [[stage]] table");
   for (std::size_t i = 0; i < stages.size(); ++i) {
-    cfg.stages.push_back(
-        parse_stage(stages[i], i, wall_names, cfg.sim.dimension, cfg.sim.solver == "cd"));
+    cfg.stages.push_back(parse_stage(stages[i], i, wall_names, cfg));
     if (cfg.stages.back().water_content && cfg.contact.cohesion != "capillary")
       stages[i].fail("water_content", "only with contact.cohesion = \"capillary\"");
   }

@@ -60,8 +60,11 @@ std::string kept_because(const std::string& key) {
            "value)";
   if (key == "simulation.seed") return "the random generator's state comes from the snapshot";
   if (s == "domain") return "the contact-detection grid comes from the snapshot";
-  if (s == "wall" && (l == "point" || l == "lo" || l == "hi" || l == "center" || l == "velocity"))
-    return "the walls' positions and velocities come from the snapshot";
+  // A turning wall's spin, pivot and orientation are state too (a mesh's surface, rebuilt from
+  // the new scenario, is placed at the snapshot's pose: its offset is a position).
+  if (s == "wall" && (l == "point" || l == "lo" || l == "hi" || l == "center" || l == "velocity" ||
+                      l == "offset" || key.find(".rotation.") != std::string::npos))
+    return "the walls' positions, velocities and rotations come from the snapshot";
   return {};
 }
 

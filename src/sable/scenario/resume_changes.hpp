@@ -8,7 +8,8 @@
 // the new scenario: materials' stiffness and friction, the contact law, the solver, the time
 // step, gravity, ...) or cannot apply, because the snapshot carries that part of the state:
 // the grains (positions, sizes, velocities, masses: a changed density or thickness), the
-// walls' positions and velocities, the contact-detection grid and the random generator.
+// walls' positions, velocities and rotations, the contact-detection grid and the random
+// generator.
 #pragma once
 
 #include <string>

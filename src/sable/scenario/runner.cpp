@@ -244,6 +244,12 @@ void Runner<D>::start_stage() {
   for (const auto& [name, vel] : st.wall_velocity)
     for (std::size_t k : walls_named(world_, name))
       world_.walls[k].velocity = Space<D>::from_array(vel);
+  // A resume in the middle of a stage keeps the snapshot's motion: this runs at stage start only.
+  for (const auto& [name, rot] : st.wall_rotation)
+    for (auto& wall : world_.walls)
+      if (wall.name == name)
+        wall.set_rotation(Space<D>::from_array(rot.point), Space<D>::from_array(rot.axis),
+                          rot.rate);
 
   progress_.message(fmt::format("stage {} '{}' begins at step {} (t = {:.6g} s, dt = {:.4g} s)",
                                 pos_.stage + 1, st.name, world_.step, world_.time, world_.dt));
