@@ -9,6 +9,7 @@ python3-matplotlib only.
 """
 import json
 import os
+import re
 import sys
 
 import matplotlib
@@ -200,12 +201,32 @@ def plot_contacts(t, out):
 
 
 def plot_series(t, out):
-    cols = [c for c in t if c not in ("time_s", "step")]
-    fig, axes = plt.subplots(len(cols), 1, figsize=(6, 1.8 * len(cols)), sharex=True)
+    # One panel per scalar; the walls' columns (wall_NAME_f?_N, wall_NAME_t?_Nm) one panel per
+    # wall for its force components and one for its torque's.
+    panels = []
+    for c in t:
+        if c in ("time_s", "step"):
+            continue
+        m = re.fullmatch(r"wall_(.*)_([ft])[xyz]_Nm?", c)
+        key = (m.group(1), m.group(2)) if m else c
+        for p in panels:
+            if p[0] == key:
+                p[1].append(c)
+                break
+        else:
+            panels.append((key, [c]))
+    fig, axes = plt.subplots(len(panels), 1, figsize=(6, 1.8 * len(panels)), sharex=True)
     axes = np.atleast_1d(axes)
-    for ax, c in zip(axes, cols):
-        ax.plot(t["time_s"], t[c], "o-", ms=3)
-        ax.set_ylabel(c.replace("_", " "), fontsize=8)
+    for ax, (key, cols) in zip(axes, panels):
+        for c in cols:
+            label = re.fullmatch(r"wall_.*_([ft][xyz])_Nm?", c)
+            ax.plot(t["time_s"], t[c], "o-", ms=3, label=label.group(1) if label else None)
+        if isinstance(key, tuple):
+            ax.set_ylabel(f"wall {key[0]}\n{'force (N)' if key[1] == 'f' else 'torque (N m)'}",
+                          fontsize=8)
+            ax.legend(fontsize=7)
+        else:
+            ax.set_ylabel(key.replace("_", " "), fontsize=8)
     axes[-1].set_xlabel("time (s)")
     save(fig, out)
 

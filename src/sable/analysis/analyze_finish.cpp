@@ -147,6 +147,36 @@ void AnalysisParts<D>::finish_walls() {
   summary_.add("walls", all);
 }
 
+// Each selected wall's mean force and torque over the snapshots (2D: the force in the plane,
+// the torque about z as a number), the pivot the torque is about (the last snapshot's).
+template <int D>
+void AnalysisParts<D>::finish_wall_loads() {
+  if (!wants("walls")) return;
+  Summary all;
+  const double n = static_cast<double>(samples_);
+  for (const auto& name : wall_names_) {
+    const auto it = loads_.find(name);
+    if (it == loads_.end()) continue;
+    const WallLoad& load = it->second;
+    std::vector<double> force, pivot;
+    for (std::size_t d = 0; d < static_cast<std::size_t>(D); ++d) {
+      force.push_back(load.force[d] / n);
+      pivot.push_back(load.pivot[d]);
+    }
+    Summary w;
+    w.add("type", load.type);
+    w.add("force_N", force);
+    if constexpr (D == 3)
+      w.add("torque_Nm",
+            std::vector<double>{load.torque[0] / n, load.torque[1] / n, load.torque[2] / n});
+    else
+      w.add("torque_Nm", load.torque[2] / n);
+    w.add("pivot_m", pivot);
+    all.add(name, w);
+  }
+  summary_.add("wall_loads", all);
+}
+
 namespace {
 
 // A / P of the silo the side walls make: 2D, two facing planes (A / P = W / 2); 3D, a
@@ -299,12 +329,13 @@ void AnalysisParts<D>::finish_per_grain() {
     });
 }
 
-#define SABLE_FINISH(D)                               \
-  template void AnalysisParts<D>::finish_forces();    \
-  template void AnalysisParts<D>::finish_stress();    \
-  template void AnalysisParts<D>::finish_walls();     \
-  template void AnalysisParts<D>::finish_fields();    \
-  template void AnalysisParts<D>::finish_per_grain(); \
+#define SABLE_FINISH(D)                                \
+  template void AnalysisParts<D>::finish_forces();     \
+  template void AnalysisParts<D>::finish_stress();     \
+  template void AnalysisParts<D>::finish_walls();      \
+  template void AnalysisParts<D>::finish_wall_loads(); \
+  template void AnalysisParts<D>::finish_fields();     \
+  template void AnalysisParts<D>::finish_per_grain();  \
   template void AnalysisParts<D>::finish_janssen();
 SABLE_FINISH(2)
 SABLE_FINISH(3)

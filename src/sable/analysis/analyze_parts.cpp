@@ -147,6 +147,15 @@ void AnalysisParts<D>::add(const Sample<D>& s) {
       if (std::find(wall_names_.begin(), wall_names_.end(), name) == wall_names_.end())
         throw InputError(
             fmt::format("option --walls: {} has no wall named '{}'", s.source, clip(name)));
+    if (wants("walls"))  // the per-snapshot series: each wall's force, then its torque
+      for (const auto& name : wall_names_) {
+        for (const char* ax : {"x", "y", "z"})
+          if (D == 3 || ax[0] != 'z')
+            series_names_.push_back(fmt::format("wall_{}_f{}_N", name, ax));
+        for (const char* ax : {"x", "y", "z"})
+          if (D == 3 || ax[0] == 'z')
+            series_names_.push_back(fmt::format("wall_{}_t{}_Nm", name, ax));
+      }
   }
   std::vector<double> row{s.time, static_cast<double>(s.step)};
   add_contacts(s);
@@ -156,6 +165,7 @@ void AnalysisParts<D>::add(const Sample<D>& s) {
   }
   add_stress(s, row);
   add_walls(s);
+  add_wall_loads(s, row);
   add_fields(s);
   series_.push_back(row);
   ++samples_;
@@ -208,12 +218,13 @@ void AnalysisParts<D>::add_walls(const Sample<D>& s) {
   for (std::size_t g = 0; g < s.size(); ++g)
     if (!s.fixed[g]) momentum_sum_ += s.mass[g] * s.a[g].dot(up);
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
-    if (is_side_wall(s, w)) continue;
+    if (is_side_wall(s, w) || s.walls[w].mesh()) continue;  // a mesh is no floor either
     for (int d = 0; d < D; ++d) floor_sum_ -= s.walls[w].force[static_cast<std::size_t>(d)] * up[d];
   }
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
     const std::string& name = s.walls[w].name;
     if (!std::count(wall_names_.begin(), wall_names_.end(), name)) continue;
+    if (s.walls[w].mesh()) continue;  // no height profile: its loads only (add_wall_loads)
     // By default only side walls get a height profile; a named floor is an error.
     if (opt_.walls.empty() && !is_side_wall(s, w)) continue;
     WallProfileOptions o;
@@ -235,6 +246,33 @@ void AnalysisParts<D>::add_walls(const Sample<D>& s) {
       accumulate(profiles_[name], p);
       friction_sum_ += p.total_shear;
     }
+  }
+}
+
+// Each selected wall's force and torque: summed for the summary, and one row of the series
+// (NaN for a wall this snapshot lacks).
+template <int D>
+void AnalysisParts<D>::add_wall_loads(const Sample<D>& s, std::vector<double>& row) {
+  if (!wants("walls")) return;
+  for (const auto& name : wall_names_) {
+    const auto it = std::find_if(s.walls.begin(), s.walls.end(),
+                                 [&](const SampleWall& w) { return w.name == name; });
+    if (it == s.walls.end()) {
+      row.insert(row.end(), D == 3 ? 6 : 3, std::nan(""));
+      continue;
+    }
+    WallLoad& load = loads_[name];
+    load.type = it->type;
+    load.pivot = it->pivot;
+    for (std::size_t d = 0; d < 3; ++d) {
+      load.force[d] += it->force[d];
+      load.torque[d] += it->torque[d];
+    }
+    for (std::size_t d = 0; d < static_cast<std::size_t>(D); ++d) row.push_back(it->force[d]);
+    if (D == 3)
+      row.insert(row.end(), it->torque.begin(), it->torque.end());
+    else
+      row.push_back(it->torque[2]);
   }
 }
 
@@ -270,6 +308,7 @@ void AnalysisParts<D>::finish() {
   finish_forces();
   finish_stress();
   finish_walls();
+  finish_wall_loads();
   finish_fields();
   finish_per_grain();
   finish_janssen();

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <functional>
 #include <map>
 #include <optional>
@@ -35,11 +36,13 @@ class AnalysisParts {
   void add_contacts(const Sample<D>& s);
   void add_stress(const Sample<D>& s, std::vector<double>& row);
   void add_walls(const Sample<D>& s);
+  void add_wall_loads(const Sample<D>& s, std::vector<double>& row);
   void add_fields(const Sample<D>& s);
   void attempt(Summary& into, const std::string& name, const std::function<void()>& body);
   void finish_forces();
   void finish_stress();
   void finish_walls();
+  void finish_wall_loads();
   void finish_fields();
   void finish_per_grain();
   void finish_janssen();
@@ -63,6 +66,12 @@ class AnalysisParts {
   double nu_sum_ = 0.0;
   std::map<std::string, WallProfile> profiles_;
   std::map<std::string, WallProfileOptions> profile_bins_;
+  // The selected walls' forces and torques summed over snapshots; their last pivots.
+  struct WallLoad {
+    std::string type;
+    std::array<double, 3> force{}, torque{}, pivot{};
+  };
+  std::map<std::string, WallLoad> loads_;
   // Silo balance, summed over snapshots: weight, support by floors, friction of side walls (N).
   double weight_sum_ = 0.0, floor_sum_ = 0.0, friction_sum_ = 0.0, momentum_sum_ = 0.0;
   std::optional<FieldSpec<D>> field_spec_;

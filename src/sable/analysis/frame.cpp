@@ -84,15 +84,18 @@ Sample<D> to_rotating_frame(const Sample<D>& s, const RotatingFrame& frame) {
     c.branch[k] = r.vec(c.branch[k]);
   }
   for (auto& w : out.walls) {
-    typename Space<D>::Vec p, n, f;
+    typename Space<D>::Vec p, n, f, pivot;
     for (int d = 0; d < D; ++d) {
       p[d] = w.point[static_cast<std::size_t>(d)];
       n[d] = w.normal[static_cast<std::size_t>(d)];
       f[d] = w.force[static_cast<std::size_t>(d)];
+      pivot[d] = w.pivot[static_cast<std::size_t>(d)];
     }
     w.point = Space<D>::to_array(r.pos(p));
     w.normal = Space<D>::to_array(r.vec(n));
     w.force = Space<D>::to_array(r.vec(f));
+    w.pivot = Space<D>::to_array(r.pos(pivot));
+    w.torque = Space<D>::rot_to_array(r.rot(Space<D>::rot_from_array(w.torque)));
   }
   out.gravity = r.vec(s.gravity);
   return out;

@@ -144,10 +144,13 @@ Sample<D> make_sample(const World<D>& w, ForceGeometry geometry) {
   for (const auto& wall : w.walls) {
     SampleWall sw;
     sw.name = wall.name;
+    sw.type = wall.type_name();
     sw.plane = wall.plane() != nullptr;
     sw.point = S::to_array(wall.point);
     sw.normal = S::to_array(wall.normal());
     sw.force = S::to_array(wall.force);
+    sw.torque = S::rot_to_array(wall.torque);
+    sw.pivot = S::to_array(wall.pivot);
     if (const auto* c = std::get_if<CylinderShape<D>>(&wall.shape)) sw.radius = c->radius;
     s.walls.push_back(sw);
   }

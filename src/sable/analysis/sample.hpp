@@ -72,6 +72,11 @@ struct SampleWall {
   bool plane = true;
   std::array<double, 3> point{}, normal{}, force{};  // force ON the wall by the grains
   double radius = 0.0;                               // cylinder
+  std::string type = "plane";                        // "plane", "cylinder" or "mesh"
+  // Torque ON the wall by the grains about `pivot` (the origin for a wall never given a
+  // rotation); 2D: about z, in torque[2].
+  std::array<double, 3> torque{}, pivot{};
+  bool mesh() const { return type == "mesh"; }
 };
 
 // How the solver that produced the forces places them (see above).

@@ -73,6 +73,7 @@ double wall_width(const Sample<D>& s, const SampleWall& wall, int axis) {
 template <int D>
 bool is_side_wall(const Sample<D>& s, std::size_t wall, int axis) {
   const SampleWall& w = s.walls[wall];
+  if (w.mesh()) return false;
   if (!w.plane) return true;
   const int a = axis >= 0 ? axis : up_axis(s);
   return std::abs(w.normal[static_cast<std::size_t>(a)]) < 1.0 - 1e-9;
@@ -83,6 +84,11 @@ WallProfile wall_profile(const Sample<D>& s, const std::string& name,
                          const WallProfileOptions& opt) {
   if (s.size() == 0) throw InputError(fmt::format("{}: the sample holds no grains", s.source));
   const std::size_t w = find_wall(s, name);
+  if (s.walls[w].mesh())
+    throw InputError(
+        fmt::format("{}: wall '{}' is a mesh: height profiles are for planes and "
+                    "cylinders",
+                    s.source, clip(name)));
   WallProfile p;
   p.wall = name;
   p.axis = opt.axis >= 0 ? opt.axis : up_axis(s);

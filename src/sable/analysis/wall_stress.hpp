@@ -44,7 +44,7 @@ WallProfile wall_profile(const Sample<D>& s, const std::string& wall,
                          const WallProfileOptions& opt);
 
 // True for a wall a height profile makes sense for: a cylinder, or a plane not perpendicular
-// to the profile axis (a side wall, not a floor or a lid).
+// to the profile axis (a side wall, not a floor or a lid). Never a mesh.
 template <int D>
 bool is_side_wall(const Sample<D>& s, std::size_t wall, int axis = -1);
 

@@ -412,11 +412,18 @@ void check_pairs(const h5::File& f, const NeighborList<D>& nl, std::size_t n,
     }
   }
   for (std::size_t k = 0; k < wl.size(); ++k) {
-    if (wl.i[k] >= n || wl.wall[k] >= elements.size() || wl.element[k] >= elements[wl.wall[k]]) {
+    if (wl.i[k] >= n || wl.wall[k] >= elements.size()) {
       f.fail(
           fmt::format("'/neighbors/wall_pairs' row {} pairs slot {} with wall {}, element {}; "
                       "expected a slot below {}, a wall below {} and one of its elements",
                       k, wl.i[k], wl.wall[k], wl.element[k], n, elements.size()));
+    }
+    if (wl.element[k] >= elements[wl.wall[k]]) {
+      f.fail(
+          fmt::format("'/neighbors/wall_pairs/element' row {} is {}, but wall {} has {} "
+                      "element{}; expected one of them (counted from 0)",
+                      k, wl.element[k], wl.wall[k], elements[wl.wall[k]],
+                      elements[wl.wall[k]] == 1 ? "" : "s"));
     }
   }
 }

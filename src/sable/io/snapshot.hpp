@@ -17,10 +17,13 @@
 //   /particles/{radius,inv_mass,inv_inertia,mass} [N] double
 //   /particles/{material [N] uint16, flags [N] uint8, shape [N] uint8, id [N x 2] uint32}
 //   /particles/ids/{slots,generations,free_list}   [*] uint32 (IdRegistry raw state)
-//   /walls/names [W] string, /walls/{point,velocity,force} [W x D] double
+//   /walls/names [W] string, /walls/{point,velocity,force,pivot} [W x D] double,
+//   /walls/orientation [W x 1] angle (2D) or [W x 4] quaternion, /walls/{spin,torque} [W x 1]
+//   (2D) or [W x 3], /walls/pivoted [W] uint32 (optional as a group: older files)
 //   /neighbors            attributes skin, builds; domain_lo, domain_hi [D]; x_ref, wall_ref
 //   /neighbors/pairs/{i,j [P] uint32, shear,force [P x D]}
-//   /neighbors/wall_pairs/{i,wall [Q] uint32, shear,force [Q x D]}
+//   /neighbors/wall_pairs/{i,wall [Q] uint32, shear,force [Q x D]}, element, feature [Q]
+//   uint32 (optional: 0 without meshes); /neighbors/wall_ref_turn as orientations (optional)
 // Writes go to a temporary file renamed over the target, so an interrupted write never
 // replaces a good snapshot with a broken one.
 #pragma once

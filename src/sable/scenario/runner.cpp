@@ -190,11 +190,18 @@ void Runner<D>::open_outputs(bool resuming) {
                                 "coordination",
                                 "max_overlap_over_radius"};
   for (const auto& c : solver_->diagnostic_columns()) cols.push_back(c);
-  for (const auto& wall : world_.walls)
+  // Each wall's force, then its torque about its pivot (2D: the force in the plane, the
+  // torque about z).
+  for (const auto& wall : world_.walls) {
     for (const char* ax : {"x", "y", "z"}) {
       if (D == 2 && ax[0] == 'z') continue;
       cols.push_back(fmt::format("wall_{}_f{}_N", wall.name, ax));
     }
+    for (const char* ax : {"x", "y", "z"}) {
+      if (D == 2 && ax[0] != 'z') continue;
+      cols.push_back(fmt::format("wall_{}_t{}_Nm", wall.name, ax));
+    }
+  }
   // A box of plane walls (loading/box_state.hpp): its corners, mean wall stresses, strain
   // (compression positive, against the box the scenario builds) and solid fraction.
   if (box_ref_) {
@@ -369,8 +376,13 @@ void Runner<D>::write_csv_row() {
                           (2.0 * static_cast<double>(pairs) + static_cast<double>(walls)) / n,
                           solver_->diagnostics().max_overlap_ratio};
   solver_->diagnostic_values(row);
-  for (const auto& wall : world_.walls)
+  for (const auto& wall : world_.walls) {
     for (int d = 0; d < D; ++d) row.push_back(wall.force[d]);
+    if constexpr (D == 3)
+      row.insert(row.end(), {wall.torque.x(), wall.torque.y(), wall.torque.z()});
+    else
+      row.push_back(wall.torque);
+  }
   if (box_ref_) {
     const auto b = measure_box(world_);  // same walls as the reference: a box too
     const auto eps = box_strain(*b, *box_ref_);

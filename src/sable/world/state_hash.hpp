@@ -69,6 +69,7 @@ std::uint64_t state_hash(const World<D>& w) {
       hash_dense(h, std::vector{wall.orientation});
       hash_dense(h, std::vector{wall.spin});
       detail::hash_vec(h, wall.pivot);
+      hash_dense(h, std::vector{wall.torque});
     }
   }
   const auto& nl = w.neighbors;
