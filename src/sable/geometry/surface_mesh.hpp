@@ -50,12 +50,13 @@ struct SurfaceMesh {
   std::size_t size() const { return elements.size(); }
 };
 
-// Welds vertices with bit-identical coordinates, checks the surface and derives the topology.
-// Refuses (InputError naming `source` and the element number, counted from 1) any
-// non-finite coordinate, an element whose corners repeat or whose area (length in 2D) is
-// below 1e-12 of its longest edge squared (its longest edge), an edge shared by more than two
-// triangles (non-manifold), and an empty mesh. `source` is how messages name the mesh (a file
-// path, or the scenario key of a built-in shape).
+// Welds vertices with bit-identical coordinates (-0 and +0 taken as equal), checks the surface
+// and derives the topology. Refuses (InputError naming `source` and the element number,
+// counted from 1) any non-finite coordinate, an element whose corners repeat or whose area is
+// at most 1e-12 of its longest edge squared (in 2D: whose length is at most 1e-12 of its
+// largest coordinate), an edge shared by more than two triangles or (2D) a vertex shared by
+// more than two segments (non-manifold), and an empty mesh. `source` is how messages name the
+// mesh (a file path, or the scenario key of a built-in shape).
 template <int D>
 SurfaceMesh<D> build_surface(std::vector<typename Space<D>::Vec> vertices,
                              std::vector<typename SurfaceMesh<D>::Element> elements,
@@ -69,7 +70,9 @@ SurfaceMesh<D> build_surface(std::vector<typename Space<D>::Vec> vertices,
 SurfaceMesh<3> cylinder_surface(const Space<3>::Vec& center, const Space<3>::Vec& axis,
                                 double radius, double length, int facets, int segments, bool caps,
                                 const std::string& source);
-// The 2D counterpart: a closed polygon of `facets` sides inscribed in the circle.
+// The 2D counterpart: a closed polygon of `facets` sides inscribed in the circle, wound
+// counter-clockwise (2D meshes' convention: a segment's normal, its direction turned clockwise,
+// points out of the solid).
 SurfaceMesh<2> circle_surface(const Space<2>::Vec& center, double radius, int facets,
                               const std::string& source);
 // The closed surface of the axis-aligned box lo..hi: 12 triangles (4 segments in 2D), normals
