@@ -30,7 +30,9 @@ class CdSolver<D>::Problem {
     const std::uint32_t i = c_.i[a], j = c_.partner[a];
     Vec vrel = p_.v[i] + S::spin_velocity(p_.omega[i], c_.arm_i[a]);
     if (c_.wall[a]) {
-      vrel -= walls_[j].velocity;
+      // The wall's velocity at the contact point (its translation velocity unless it turns).
+      const Wall<D>& wall = walls_[j];
+      vrel -= wall.turning() ? wall.velocity_at(p_.x[i] + c_.arm_i[a]) : wall.velocity;
     } else {
       vrel -= p_.v[j] + S::spin_velocity(p_.omega[j], c_.arm_j[a]);
     }
@@ -98,11 +100,15 @@ class CdSolver<D>::Problem {
     return p_.inv_inertia[i] + (c_.wall[a] ? 0.0 : p_.inv_inertia[j]);
   }
 
-  // The relative rolling velocity omega_i - omega_j (omega_i against a wall), twist removed
-  // in 3D.
+  // The relative rolling velocity omega_i - omega_j (against a wall omega_i, less the wall's
+  // spin if it turns), twist removed in 3D.
   Rot rolling_velocity(std::size_t a) const {
     const std::uint32_t i = c_.i[a], j = c_.partner[a];
-    Rot spin_rel = c_.wall[a] ? p_.omega[i] : Rot(p_.omega[i] - p_.omega[j]);
+    Rot spin_rel = p_.omega[i];
+    if (!c_.wall[a])
+      spin_rel -= p_.omega[j];
+    else if (walls_[j].turning())
+      spin_rel -= walls_[j].spin;
     if constexpr (D == 3) spin_rel -= spin_rel.dot(c_.frame[a].col(0)) * c_.frame[a].col(0);
     return spin_rel;
   }
@@ -370,28 +376,42 @@ void CdSolver<D>::build_contacts() {
                        p.radius[j] * n, world_.materials.pair(p.material[i], p.material[j]),
                        pl.force[k], rolling ? pl.roll[k] : S::zero_rot());
   }
+  // A wall entry is (grain, wall, element): the feature its element answers for
+  // (geometry/walls.hpp; for a plane or a cylinder, element 0 is the whole surface), skipped
+  // when another element's entry holds the nearest feature.
   for (std::size_t k = 0; k < wl.size(); ++k) {
     const std::uint32_t i = wl.i[k];
     const Wall<D>& wall = world_.walls[wl.wall[k]];
-    Vec n;
-    const double dist = wall.distance(p.x[i], n);
-    // A wall body's speed can change during the solve, up to its cap.
-    const double wall_speed = is_body(wl.wall[k]) && std::isfinite(dofs_[wl.wall[k]].max_speed)
-                                  ? dofs_[wl.wall[k]].max_speed
-                                  : wall.velocity.norm();
-    if (dist - p.radius[i] > reach + world_.dt * wall_speed) {
+    const WallFeature<D> f = wall.contact(p.x[i], wl.element[k]);
+    if (!f.active ||
+        f.dist - p.radius[i] > reach + world_.dt * wall_speed(wl.wall[k], p.x[i], p.radius[i])) {
       wl.force[k].setZero();
       if (rolling) wl.roll[k] = S::zero_rot();
       continue;
     }
-    add_contact<true>(i, wl.wall[k], static_cast<std::uint32_t>(k), n, dist - p.radius[i],
-                      -p.radius[i] * n, Vec::Zero(),
+    wl.feature[k] = f.feature;
+    add_contact<true>(i, wl.wall[k], static_cast<std::uint32_t>(k), f.n, f.dist - p.radius[i],
+                      -p.radius[i] * f.n, Vec::Zero(),
                       world_.materials.pair(p.material[i], wall.material), wl.force[k],
                       rolling ? wl.roll[k] : S::zero_rot());
   }
 }
 
-// Forces = impulses / h, written where DEM writes its forces, so outputs are shared.
+// How fast wall w's surface can move near a grain centre x during the step: a wall body's
+// speed can change during the solve, up to its cap; a turning wall's, at the contact point of
+// a grain of `radius` at x, is at most its speed at x plus the spin times the radius.
+template <int D>
+double CdSolver<D>::wall_speed(std::uint32_t w, const Vec& x, double radius) const {
+  const Wall<D>& wall = world_.walls[w];
+  if (is_body(w) && std::isfinite(dofs_[w].max_speed)) return dofs_[w].max_speed;
+  if (!wall.turning()) return wall.velocity.norm();
+  return wall.velocity_at(x).norm() + std::sqrt(Space<D>::rot_norm2(wall.spin)) * radius;
+}
+
+// Forces = impulses / h, written where DEM writes its forces, so outputs are shared. Each
+// wall's force, its torque about its pivot (the force -f at the contact point x_i + arm_i,
+// x_i - R_i n; the rolling couple's reaction, which the DEM's leaves out) and a mesh's force
+// per element, as the DEM's total_wall_forces().
 template <int D>
 void CdSolver<D>::store_impulses() {
   using S = Space<D>;
@@ -401,7 +421,11 @@ void CdSolver<D>::store_impulses() {
     p.f[k].setZero();
     p.t[k] = S::zero_rot();
   }
-  for (auto& wall : world_.walls) wall.force.setZero();
+  for (auto& wall : world_.walls) {
+    wall.force.setZero();
+    wall.torque = S::zero_rot();
+    wall.element_force.assign(wall.is_mesh() ? wall.elements() : 0, S::zero());
+  }
   diag_.touching = 0;
   diag_.max_overlap_ratio = 0.0;
   for (std::size_t a = 0; a < c_.size(); ++a) {
@@ -411,8 +435,11 @@ void CdSolver<D>::store_impulses() {
     p.f[i] += f;
     p.t[i] += S::moment(c_.arm_i[a], f);
     if (c_.wall[a]) {
+      Wall<D>& wall = world_.walls[j];
       nl.wall_pairs.force[c_.source[a]] = f;
-      world_.walls[j].force -= f;
+      wall.force -= f;
+      wall.torque -= S::moment(Vec(p.x[i] + c_.arm_i[a] - wall.pivot), f);
+      if (!wall.element_force.empty()) wall.element_force[nl.wall_pairs.element[c_.source[a]]] -= f;
     } else {
       nl.pairs.force[c_.source[a]] = f;
       p.f[j] -= f;
@@ -423,6 +450,7 @@ void CdSolver<D>::store_impulses() {
       p.t[i] += couple;
       if (c_.wall[a]) {
         nl.wall_pairs.roll[c_.source[a]] = couple;
+        world_.walls[j].torque -= couple;
       } else {
         nl.pairs.roll[c_.source[a]] = couple;
         p.t[j] -= couple;

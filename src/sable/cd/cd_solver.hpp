@@ -7,6 +7,11 @@
 // (so outputs and analyses read CD forces exactly like DEM forces, and the impulses of
 // persisting contacts warm-start the next step and travel in snapshots).
 //
+// Walls of every shape are bodies of infinite mass with a prescribed motion: a wall entry's
+// contact is at the feature its element answers for (Wall::contact; a mesh entry whose
+// element holds no nearest feature stays out), and the wall's velocity there is its
+// translation plus its spin about its pivot (Wall::velocity_at).
+//
 // Stress-controlled walls are bodies here (set_wall_bodies, as in LMGC90): a plane wall with
 // one translational degree of freedom along its normal, a mass M and an applied force F. Its
 // velocity is one more unknown of the NLGS: a grain-wall contact sees the wall's 1/M along n
@@ -96,6 +101,7 @@ class CdSolver final : public Solver {
   void store_impulses();
   void start_wall_bodies();
   double max_speed() const;
+  double wall_speed(std::uint32_t w, const Vec& x, double radius) const;
   bool is_body(std::size_t wall) const { return wall < dofs_.size() && dofs_[wall].inv_mass > 0.0; }
 
   World<D>& world_;
