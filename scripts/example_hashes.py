@@ -12,6 +12,11 @@ the exit status if it did not finish). Run it with the executable before and aft
 then `diff` the two outputs: a refactor must leave every line alone. The cut copy of a
 scenario is written beside it (a data file it names is relative to it) under a hidden name,
 and removed.
+
+    /usr/bin/python3 scripts/example_hashes.py SABLE OUT --expect tests/data/example_hashes.txt
+
+compares instead with recorded lines (the test ExampleHashes: '#' starts a comment) and fails,
+naming each scenario whose hash changed, is missing or is new.
 """
 import argparse
 import os
@@ -34,7 +39,17 @@ def main() -> int:
     ap.add_argument("sable", help="the sable executable")
     ap.add_argument("out", help="output root (each scenario's run in OUT/NAME)")
     ap.add_argument("--steps", type=int, default=20, help="steps per stage at most (20)")
+    ap.add_argument("--expect", help="recorded 'path hash' lines to compare with")
     a = ap.parse_args()
+    expected = None
+    if a.expect:
+        expected = {}
+        for line in Path(a.expect).read_text().splitlines():
+            line = line.split("#", 1)[0].strip()
+            if line:
+                path, value = line.split()
+                expected[path] = value
+    got = {}
     root = Path(__file__).resolve().parent.parent
     failed = 0
     for scen in sorted((root / "examples").rglob("*.toml")):
@@ -52,10 +67,17 @@ def main() -> int:
         m = HASH_RE.search(r.stdout + r.stderr)
         if r.returncode == 0 and m:
             print(f"{rel} {m.group(1)}", flush=True)
+            got[str(rel)] = m.group(1)
         else:
             failed += 1
             print(f"{rel} FAILED (exit {r.returncode})", flush=True)
             sys.stderr.write((r.stdout + r.stderr)[-2000:])
+    if expected is not None:
+        for path in sorted(set(expected) | set(got)):
+            if expected.get(path) != got.get(path):
+                failed += 1
+                print(f"{path}: hash {got.get(path, 'missing')}, recorded "
+                      f"{expected.get(path, 'none')} ({a.expect})", flush=True)
     return 1 if failed else 0
 
 

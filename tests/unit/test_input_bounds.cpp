@@ -157,7 +157,7 @@ TEST(InputBounds, LatticeGivesUpOnSitesOutsideTheRegion) {
   } catch (const InputError& e) {
     EXPECT_TRUE(has(e.what(),
                     "bounds.toml:12:1: grains: 16777473 lattice sites lie outside the "
-                    "region for 0 grains placed of 4"));
+                    "region or on a wall for 0 grains placed of 4"));
   }
 }
 

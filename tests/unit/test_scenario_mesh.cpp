@@ -226,9 +226,8 @@ TEST(ScenarioMesh, BadMeshInputIsRefusedWithItsPlace) {
                   "wall[0].scale does not apply to a built-in shape (only to file = \"...\""));
   EXPECT_TRUE(has(error_of(mesh_wall(3, box + "\noffset = [0, 0, 1]")),
                   "wall[0].offset does not apply to a built-in shape"));
-  EXPECT_TRUE(has(error_of(mesh_wall(3, box, "", "cd")),
-                  "wall[0].type = \"mesh\": expected \"plane\", \"box\" or \"cylinder\" with "
-                  "solver = \"cd\" (contact dynamics has no mesh walls yet)"));
+  // Contact dynamics takes mesh walls as DEM does.
+  EXPECT_NO_THROW(parse_scenario(mesh_wall(3, box, "", "cd"), kPath));
   // Keys of another wall type.
   EXPECT_TRUE(has(error_of(mesh_wall(3, box + "\nnormal = [0, 0, 1]")),
                   "wall[0].normal does not apply to type = \"mesh\" (only to \"plane\")"));
@@ -286,15 +285,12 @@ TEST(ScenarioMesh, BadRotationsAreRefusedWithTheirPlace) {
                   "point: rate > 0 is counter-clockwise)"));
   EXPECT_TRUE(has(error_of(mesh_wall(3, box + "rotation = 2")),
                   "wall[0].rotation = 2: expected a table, found an integer"));
-  EXPECT_TRUE(
-      has(error_of(head(3, "cd") +
-                   "[[wall]]\nname = \"p\"\nmaterial = \"steel\"\npoint = [0, 0, 0]\nnormal = "
-                   "[0, 0, 1]\nrotation = { point = [0, 0, 0], axis = [1, 0, 0], rate = 1 }\n"
-                   "[[stage]]\nsteps = 1\n"),
-          "scen/test.toml:21:12: wall[0].rotation does not apply with solver = \"cd\" "
-          "(contact dynamics does not take a wall's spin into its contacts yet"));
-  EXPECT_TRUE(has(error_of(head(3, "cd") + "[[stage]]\nsteps = 1\nwall_rotation = {}\n"),
-                  "stage[0].wall_rotation does not apply with solver = \"cd\""));
+  // ... and turning walls.
+  EXPECT_NO_THROW(parse_scenario(head(3, "cd") +
+                                     "[[wall]]\nname = \"p\"\nmaterial = \"steel\"\npoint = [0, 0, "
+                                     "0]\nnormal = [0, 0, 1]\nrotation = { point = [0, 0, 0], "
+                                     "axis = [1, 0, 0], rate = 1 }\n[[stage]]\nsteps = 1\n",
+                                 kPath));
   // A box is planes: refused on the wall and in a stage, with the mesh box suggested.
   const std::string bin =
       head(3) +

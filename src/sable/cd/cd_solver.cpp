@@ -410,7 +410,7 @@ double CdSolver<D>::wall_speed(std::uint32_t w, const Vec& x, double radius) con
 
 // Forces = impulses / h, written where DEM writes its forces, so outputs are shared. Each
 // wall's force, its torque about its pivot (the force -f at the contact point x_i + arm_i,
-// x_i - R_i n; the rolling couple's reaction, which the DEM's leaves out) and a mesh's force
+// x_i - R_i n, and the reaction to each rolling couple) and a mesh's force
 // per element, as the DEM's total_wall_forces().
 template <int D>
 void CdSolver<D>::store_impulses() {

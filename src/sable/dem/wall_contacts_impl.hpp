@@ -142,12 +142,14 @@ void DemSolver<D, Laws>::wall_contact(std::size_t k, const Wall<D>& wall, const 
 // Stage total_wall_forces (printed "closing"): each wall's total force and torque about its
 // pivot, and a mesh's force per element, from its contacts' forces in list order, once every
 // contact's force is final. Contact point x_c = x_i - (R_i - delta/2) n, so the torque of
-// -F there is -(x_i - pivot) x F + (R_i - delta/2) n x F.
+// -F there is -(x_i - pivot) x F + (R_i - delta/2) n x F; with rolling resistance the wall
+// also takes minus each rolling couple (as contact dynamics counts it).
 template <int D, class Laws>
 void DemSolver<D, Laws>::total_wall_forces() {
   using S = Space<D>;
   const auto& wl = world_.neighbors.wall_pairs;
   const auto& p = world_.particles;
+  const bool rolling = with_rolling();
   for (auto& wall : world_.walls) {
     wall.force.setZero();
     wall.torque = S::zero_rot();
@@ -161,6 +163,7 @@ void DemSolver<D, Laws>::total_wall_forces() {
     const std::uint32_t i = wl.i[k];
     wall.torque +=
         (p.radius[i] - 0.5 * wall_delta_[k]) * wall_moment_[k] - S::moment(p.x[i] - wall.pivot, f);
+    if (rolling) wall.torque -= wall_roll_[k];  // the reaction to the grain's rolling couple
     if (!wall.element_force.empty()) wall.element_force[wl.element[k]] -= f;
   }
 }

@@ -27,9 +27,6 @@ constexpr std::uint64_t kMaxFacets = 10'000'000;
 const std::string kBoxTurns =
     "a box is independent plane walls (NAME.xlo, NAME.xhi, ...); a turning box is a wall of "
     "type = \"mesh\" with shape = { box = { lo = [...], hi = [...] } }";
-const std::string kCdTurns =
-    "with solver = \"cd\" (contact dynamics does not take a wall's spin into its contacts yet: "
-    "turning walls are DEM only)";
 
 // A direction: non-zero, its squared length a normal double (normalising it neither overflows
 // nor divides by an underflowed zero).
@@ -232,17 +229,12 @@ WallConfig parse_wall(const Table& t, const ScenarioConfig& cfg) {
   reject_foreign_wall_keys(t, w.type);
   w.material = material_ref(t, cfg.materials);
   if (w.type == "mesh") {
-    if (cfg.sim.solver == "cd")
-      t.fail("type",
-             "\"plane\", \"box\" or \"cylinder\" with solver = \"cd\" (contact dynamics has no "
-             "mesh walls yet)");
     parse_mesh(t, w.mesh, dim);
   } else {
     parse_wall_geometry(t, w, dim);
   }
   w.velocity = t.vector("velocity", dim).value_or(w.velocity);
   if (w.type == "box") t.reject("rotation", "to type = \"box\": " + kBoxTurns);
-  if (cfg.sim.solver == "cd") t.reject("rotation", kCdTurns);
   if (const auto r = t.table("rotation")) w.rotation = parse_rotation(*r, dim);
   w.loc = t.loc();
   return w;
@@ -304,7 +296,6 @@ void parse_wall_velocity(const Table& s, StageConfig& st, const std::vector<std:
 // wall_rotation = { drum = { point = [...], axis = [...], rate = ... } }: walls that may turn
 // (not a box, nor its planes), as a wall's own rotation key.
 void parse_wall_rotation(const Table& s, StageConfig& st, const ScenarioConfig& cfg) {
-  if (cfg.sim.solver == "cd") s.reject("wall_rotation", kCdTurns);
   const auto t = s.table("wall_rotation");
   if (!t) return;
   std::vector<std::string> turnable;
