@@ -6,6 +6,12 @@
 // floor beside its long faces: within a few hundred steps it sweeps into them.
 #pragma once
 
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+
 #include "sable/dem/dem_solver.hpp"
 #include "sable/geometry/surface_mesh.hpp"
 #include "sable/world/world.hpp"
@@ -96,5 +102,22 @@ std::size_t touching(const List& list, std::size_t wall = ~std::size_t{0}) {
       ++n;
   return n;
 }
+
+// A test with a fresh temporary folder of its own (named after the suite, the test and the
+// process), removed after it.
+class TempDirTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::temp_directory_path() /
+           ("sable_" + std::string(info->test_suite_name()) + "_" + std::to_string(::getpid()) +
+            "_" + info->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::filesystem::path dir_;
+};
 
 }  // namespace sable::test

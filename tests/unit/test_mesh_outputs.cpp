@@ -30,19 +30,7 @@ namespace fs = std::filesystem;
 using sable::World;
 using sable::test::kPaddle;
 
-class MeshOutputs : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("sable_mesh_outputs_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
-};
+class MeshOutputs : public sable::test::TempDirTest {};
 
 // The numbers of the DataArray named `name` in a VTK XML file written in ASCII.
 std::vector<double> vtk_array(const std::string& text, const std::string& name) {

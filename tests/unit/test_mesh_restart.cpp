@@ -25,19 +25,7 @@ namespace fs = std::filesystem;
 using sable::World;
 using sable::test::kPaddle;
 
-class MeshRestart : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("sable_mesh_restart_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
-};
+class MeshRestart : public sable::test::TempDirTest {};
 
 template <int D>
 bool same_orientation(const World<D>& a, const World<D>& b) {

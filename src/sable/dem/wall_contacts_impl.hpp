@@ -58,15 +58,20 @@ void DemSolver<D, Laws>::mesh_contacts(std::uint32_t k0, std::uint32_t k1, const
   std::array<Rot, kMaxHandOver> roll;
   std::size_t ended = 0, taken = 0;
   const MeshShape<D>& mesh = *wall.mesh();
+  // Per entry: kTouches, its element holds a touching feature now; kBegins, that contact is
+  // new (it takes an ended contact's history). Most entries are elements near a grain but
+  // not under it: they cost the bounds test and, when they held nothing, no more.
+  constexpr std::uint8_t kTouches = 1, kBegins = 2;
   for (std::uint32_t k = k0; k < k1; ++k) {
     WallFeature<D> f;
     f.active = false;  // an element out of reach holds no touching feature
     if (mesh.may_touch(p.x[i], p.radius[i], wl.element[k]))
       f = mesh.contact(wall.point, p.x[i], wl.element[k]);
-    feature_[k] = f;
     const bool now = f.active && f.dist < p.radius[i];
+    if (now) feature_[k] = f;
     const bool had =
         wall_delta_[k] != 0.0 && (wl.force[k] != Vec::Zero() || wl.shear[k] != Vec::Zero());
+    std::uint8_t flags = now ? kTouches : 0;
     if (had && (!now || wl.feature[k] != f.feature)) {
       if (ended < kMaxHandOver) {
         shear[ended] = wl.shear[k];
@@ -75,15 +80,22 @@ void DemSolver<D, Laws>::mesh_contacts(std::uint32_t k0, std::uint32_t k1, const
       wl.shear[k].setZero();
       if (rolling) wl.roll[k] = Space<D>::zero_rot();
       wall_delta_[k] = -1.0;  // the force it still holds is cleared below unless it touches
-      wl.feature[k] = now ? f.feature : wl.feature[k];
-      hand_over_[k] = now ? 1 : 0;
-    } else {
-      hand_over_[k] = now && !had ? 1 : 0;
-      if (now) wl.feature[k] = f.feature;
+      if (now) flags |= kBegins;
+    } else if (now && !had) {
+      flags |= kBegins;
     }
+    if (now) wl.feature[k] = f.feature;
+    hand_over_[k] = flags;
   }
+  WallFeature<D> none;
+  none.active = false;
   for (std::uint32_t k = k0; k < k1; ++k) {
-    if (hand_over_[k] && taken < ended) {
+    const std::uint8_t flags = hand_over_[k];
+    if (!(flags & kTouches)) {
+      if (wall_delta_[k] != 0.0) wall_contact<Normal>(k, wall, none, max_ratio, touching);
+      continue;
+    }
+    if ((flags & kBegins) && taken < ended) {
       wl.shear[k] = shear[taken];
       if (rolling) wl.roll[k] = roll[taken];
       ++taken;

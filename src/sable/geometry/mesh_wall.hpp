@@ -21,6 +21,7 @@
 // mesh moved (angle times the largest vertex distance from the origin) is tight.
 #pragma once
 
+#include <cmath>
 #include <memory>
 
 #include "sable/geometry/surface_mesh.hpp"
@@ -66,11 +67,19 @@ struct MeshShape {
     return ((x.array() >= lo_.array() - margin) && (x.array() <= hi_.array() + margin)).all();
   }
 
-  // False when no point of element e lies within r of x (its bounding sphere is farther):
-  // the cheap test that spares the feature regions of the elements a grain only nears.
+  // False when no point of element e lies within r of x: the cheap test that spares the
+  // feature regions of the elements a grain only nears. A point p of the element within r of
+  // x lies within s = sqrt(r^2 - h^2) of x's projection on the element's plane (h: x's height
+  // above it), and within the element's disk (centroid c, radius rho) in that plane: so the
+  // projection lies within s + rho of c. On a fine flat mesh that keeps the few elements
+  // under a grain's contact cap, where a ball test would keep all within r + rho.
   bool may_touch(const Vec& x, double r, std::uint32_t e) const {
-    const double reach = r + ball_[e].radius;
-    return (x - ball_[e].centre).squaredNorm() < reach * reach;
+    const Vec d = x - ball_[e].centre;
+    const double h = d.dot(normal_[e]);
+    const double s2 = r * r - h * h;
+    if (!(s2 > 0.0)) return false;
+    const double reach = std::sqrt(s2) + ball_[e].radius;
+    return d.squaredNorm() - h * h < reach * reach;
   }
 
   // The element's unit normal (3D: right-hand rule; 2D: the segment's direction turned +90
@@ -91,7 +100,7 @@ struct MeshShape {
     Vec centre;
     double radius;
   };
-  std::vector<Ball> ball_;  // per element: a sphere holding it (centroid, farthest corner)
+  std::vector<Ball> ball_;  // per element: its centroid and a radius about it holding it
   std::vector<std::array<Vec, 3>> inward_;  // 3D: per triangle edge, unit, into it
   std::vector<Vec> dir_;  // unit direction of each edge (3D) or segment (2D), first to second
   double tol_ = 0.0;      // 1e-12 of the mesh's size: the regions' borders
