@@ -359,6 +359,34 @@ TEST_F(ScenarioMeshFiles, CliChecksAScenarioWithAMeshFile) {
   EXPECT_TRUE(has(out, "1 walls"));
 }
 
+// Guards: a snapshot records where its scenario was, so `sable analyze` of a snapshot (in
+// another folder) finds the mesh file the scenario names by a relative path (before, it looked
+// beside the snapshot and stopped).
+TEST_F(ScenarioMeshFiles, AnalyzeFindsTheMeshOfARelativePath) {
+  write_stl(dir_ / "parts" / "tet.stl", kTetrahedron);
+  std::ofstream(dir_ / "scen.toml")
+      << head(3) +
+             "[[grains]]\ngenerator = \"list\"\nmaterial = \"g\"\nradius = 0.01\npositions = "
+             "[[0.1, 0.1, 0.45]]\n[[wall]]\nname = \"part\"\ntype = \"mesh\"\nmaterial = "
+             "\"steel\"\nfile = \"parts/tet.stl\"\nscale = 0.5\n[[stage]]\nsteps = 20\n"
+             "[output]\ndir = \"unused\"\n";
+  std::string out;
+  ASSERT_EQ(
+      test::run_cli("run " + (dir_ / "scen.toml").string() + " --out " + (dir_ / "run").string(),
+                    dir_ / "run.log", out),
+      0)
+      << out;
+  fs::path snap;
+  for (const auto& e : fs::directory_iterator(dir_ / "run" / "snapshots")) snap = e.path();
+  ASSERT_FALSE(snap.empty());
+  EXPECT_EQ(test::run_cli(
+                "analyze " + snap.string() + " --only walls --out " + (dir_ / "analysis").string(),
+                dir_ / "analyze.log", out),
+            0)
+      << out;
+  EXPECT_TRUE(fs::exists(dir_ / "analysis" / "summary.json")) << out;
+}
+
 // Guards: a resume under a scenario with another rotation keeps the snapshot's turning (the
 // key is reported not applied, with the reason), and so a mesh's offset (a position); a new
 // surface (here more facets) applies.

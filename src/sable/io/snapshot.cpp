@@ -85,8 +85,9 @@ std::vector<T> read_rows(const h5::File& f, const std::string& name,
 
 template <int D>
 void write_header(h5::File& f, const World<D>& w, const RunPosition& pos,
-                  const std::string& scenario_text) {
+                  const std::string& scenario_text, const std::string& scenario_path) {
   f.write_string("/scenario", scenario_text);
+  if (!scenario_path.empty()) f.write_string("/scenario_path", scenario_path);
   const auto rng = w.rng.state();
   f.write("/rng_state", std::vector<std::uint64_t>(rng.begin(), rng.end()));
   f.write_attr_string("/", "format", kSnapshotFormat);
@@ -602,10 +603,10 @@ void swap_state(World<D>& w, Loaded<D>& s) {
 
 template <int D>
 void save_snapshot(const World<D>& world, const RunPosition& pos, const std::string& scenario_text,
-                   const std::string& path) {
+                   const std::string& path, const std::string& scenario_path) {
   write_atomic(path, [&](const std::string& tmp) {
     h5::File f = h5::File::create(tmp, fmt::format("snapshot '{}'", path));
-    write_header(f, world, pos, scenario_text);
+    write_header(f, world, pos, scenario_text, scenario_path);
     write_particles(f, world.particles);
     write_walls(f, world.walls);
     write_neighbors(f, world.neighbors);
@@ -680,13 +681,14 @@ SnapshotInfo read_snapshot_info(const std::string& path) {
   info.wall_pairs = f.shape("/neighbors/wall_pairs/i").rows;
   info.walls = f.shape("/walls/point").rows;
   info.scenario_text = f.read_string("/scenario");
+  if (f.exists("/scenario_path")) info.scenario_path = f.read_string("/scenario_path");
   return info;
 }
 
 template void save_snapshot<2>(const World<2>&, const RunPosition&, const std::string&,
-                               const std::string&);
+                               const std::string&, const std::string&);
 template void save_snapshot<3>(const World<3>&, const RunPosition&, const std::string&,
-                               const std::string&);
+                               const std::string&, const std::string&);
 template RunPosition load_snapshot<2>(const std::string&, World<2>&, std::string*);
 template RunPosition load_snapshot<3>(const std::string&, World<3>&, std::string*);
 

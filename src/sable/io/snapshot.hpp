@@ -11,6 +11,8 @@
 //   /                     attributes format = "sable-snapshot", version, dimension, step, time,
 //                         dt, stage, stage_step, state_hash
 //   /scenario             string: the scenario text
+//   /scenario_path        string, optional: the scenario file's absolute path (its folder is
+//                         where relative file names in it start)
 //   /rng_state            [4] uint64
 //   /particles/{x,v,f}    [N x D] double        /particles/{w,t}  [N x 1] (2D) or [N x 3]
 //   /particles/q          [N x 1] angle (2D) or [N x 4] quaternion w, x, y, z (3D)
@@ -46,9 +48,12 @@ struct RunPosition {
   friend bool operator==(const RunPosition&, const RunPosition&) = default;
 };
 
+// `scenario_path`: where the scenario file was (absolute), stored beside its text so that the
+// files it names by relative paths (meshes, grain data) are found from its folder when the
+// snapshot is analysed or verified elsewhere ("" stores none).
 template <int D>
 void save_snapshot(const World<D>& world, const RunPosition& pos, const std::string& scenario_text,
-                   const std::string& path);
+                   const std::string& path, const std::string& scenario_path = "");
 
 // Overwrite the dynamic state of `world` (already built from the snapshot's scenario) with the
 // snapshot's. Throws InputError naming the file and the offending dataset or attribute if the
@@ -67,6 +72,7 @@ struct SnapshotInfo {
   RunPosition pos;
   std::uint64_t state_hash = 0;
   std::string scenario_text;
+  std::string scenario_path;  // "" when the file stores none
 };
 
 SnapshotInfo read_snapshot_info(const std::string& path);

@@ -229,7 +229,11 @@ ScenarioConfig parse_scenario(const std::string& text, const std::string& path);
 
 // The scenario a snapshot `path` stores (`text`), parsed; throws InputError "the scenario
 // stored in the snapshot does not parse: ..." (the caller names the file).
-ScenarioConfig parse_stored_scenario(const std::string& text, const std::string& path);
+// The scenario stored in snapshot `path`. Files it names by relative paths are looked for in
+// the folder of `scenario_path` (where the run's scenario was, as the snapshot records it)
+// when that folder exists, else in the snapshot's folder.
+ScenarioConfig parse_stored_scenario(const std::string& text, const std::string& path,
+                                     const std::string& scenario_path = "");
 ScenarioConfig load_scenario(const std::string& path);
 
 }  // namespace sable

@@ -605,9 +605,15 @@ ScenarioConfig load_scenario(const std::string& path) {
   return parse_scenario(text, path);
 }
 
-ScenarioConfig parse_stored_scenario(const std::string& text, const std::string& path) {
+ScenarioConfig parse_stored_scenario(const std::string& text, const std::string& path,
+                                     const std::string& scenario_path) {
+  // The name messages give, whose folder relative paths start from.
+  std::error_code ec;
+  const bool there =
+      !scenario_path.empty() &&
+      std::filesystem::is_directory(std::filesystem::path(scenario_path).parent_path(), ec);
   try {
-    return parse_scenario(text, path + " (embedded scenario)");
+    return parse_scenario(text, there ? scenario_path : path + " (embedded scenario)");
   } catch (const InputError& e) {
     throw InputError(
         fmt::format("the scenario stored in the snapshot does not parse: {}", e.what()));

@@ -359,7 +359,10 @@ void Runner<D>::write_frame() {
 
 template <int D>
 void Runner<D>::write_snapshot(const std::string& file) {
-  save_snapshot(world_, pos_, cfg_.text, (out_ / "snapshots" / file).string());
+  std::error_code ec;
+  const fs::path scenario = fs::absolute(cfg_.path, ec);
+  save_snapshot(world_, pos_, cfg_.text, (out_ / "snapshots" / file).string(),
+                ec ? std::string() : scenario.string());
 }
 
 template <int D>

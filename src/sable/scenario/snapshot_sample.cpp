@@ -20,7 +20,7 @@ Sample<D> load_sample(const std::string& path) {
   // grains themselves come from the snapshot, so generators are not re-run.
   ScenarioConfig cfg;
   try {
-    cfg = parse_stored_scenario(info.scenario_text, path);
+    cfg = parse_stored_scenario(info.scenario_text, path, info.scenario_path);
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: {}", path, e.what()));
   }

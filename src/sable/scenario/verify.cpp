@@ -24,7 +24,7 @@ SnapshotIntegrity verify_snapshot(const std::string& path) {
   const SnapshotInfo info = read_snapshot_info(path);
   SnapshotIntegrity out;
   try {
-    const ScenarioConfig cfg = parse_stored_scenario(info.scenario_text, path);
+    const ScenarioConfig cfg = parse_stored_scenario(info.scenario_text, path, info.scenario_path);
     if (cfg.sim.dimension != info.dimension)
       throw InputError(fmt::format("the snapshot is {}D, but the scenario stored in it is {}D",
                                    info.dimension, cfg.sim.dimension));
