@@ -446,8 +446,8 @@ std::string floor_run(int dim, const std::string& out) {
 }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() /
-                     ("sable_scen_mesh_run_" + name + "_" + std::to_string(::getpid()));
+  fs::path p = fs::temp_directory_path() /
+               ("sable_scen_mesh_run_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(p);
   return p;
 }
