@@ -225,7 +225,9 @@ inline constexpr std::uint64_t kMaxGrains = 100'000'000;
 inline constexpr std::uint64_t kMaxInsertionAttempts = 1'000'000;
 
 // Parse and validate. Throws InputError naming file:line:column, the key and what was expected.
-ScenarioConfig parse_scenario(const std::string& text, const std::string& path);
+// `folder`: where files named by relative paths are looked for ("" for the folder of `path`).
+ScenarioConfig parse_scenario(const std::string& text, const std::string& path,
+                              const std::string& folder = "");
 
 // The scenario a snapshot `path` stores (`text`), parsed; throws InputError "the scenario
 // stored in the snapshot does not parse: ..." (the caller names the file).

@@ -306,7 +306,7 @@ void parse_data_file(const Table& g, GrainsConfig& gc) {
   namespace fs = std::filesystem;
   const std::string name = g.required_string("file");
   fs::path p(name);
-  if (p.is_relative()) p = fs::path(g.file()).parent_path() / p;
+  if (p.is_relative()) p = fs::path(g.folder()) / p;
   gc.file = p.lexically_normal().string();
   std::error_code ec;
   if (!fs::is_regular_file(p, ec)) {
@@ -520,12 +520,13 @@ std::string detail::material_ref(const Table& t, const std::vector<MaterialConfi
   return name;
 }
 
-ScenarioConfig parse_scenario(const std::string& text, const std::string& path) {
+ScenarioConfig parse_scenario(const std::string& text, const std::string& path,
+                              const std::string& folder) {
   if (text.size() > kMaxScenarioBytes)
     throw InputError(fmt::format("{}: the scenario is {} bytes; at most {} (64 MiB) are read",
                                  clip(path), text.size(), kMaxScenarioBytes));
   const toml::table doc = detail::parse_document(text, path);
-  const Table root(doc, "", path);
+  const Table root(doc, "", path, folder);
   root.check_keys({"simulation", "domain", "material", "material_pair", "contact", "cd", "grains",
                    "wall", "stage", "output"});
   ScenarioConfig cfg;
@@ -607,13 +608,12 @@ ScenarioConfig load_scenario(const std::string& path) {
 
 ScenarioConfig parse_stored_scenario(const std::string& text, const std::string& path,
                                      const std::string& scenario_path) {
-  // The name messages give, whose folder relative paths start from.
+  // Relative file names start from the scenario's folder while it exists.
+  const std::filesystem::path folder = std::filesystem::path(scenario_path).parent_path();
   std::error_code ec;
-  const bool there =
-      !scenario_path.empty() &&
-      std::filesystem::is_directory(std::filesystem::path(scenario_path).parent_path(), ec);
+  const bool there = !scenario_path.empty() && std::filesystem::is_directory(folder, ec);
   try {
-    return parse_scenario(text, there ? scenario_path : path + " (embedded scenario)");
+    return parse_scenario(text, path + " (embedded scenario)", there ? folder.string() : "");
   } catch (const InputError& e) {
     throw InputError(
         fmt::format("the scenario stored in the snapshot does not parse: {}", e.what()));

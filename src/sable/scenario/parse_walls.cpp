@@ -194,7 +194,7 @@ void parse_mesh(const Table& t, MeshConfig& m, int dim) {
            "shape = { polyline = {...} }, { circle = {...} } or { box = {...} })");
   namespace fs = std::filesystem;
   fs::path p(t.required_string("file"));
-  if (p.is_relative()) p = fs::path(t.file()).parent_path() / p;
+  if (p.is_relative()) p = fs::path(t.folder()) / p;
   m.file = p.lexically_normal().string();
   std::error_code ec;
   if (!fs::is_regular_file(p, ec))

@@ -246,8 +246,13 @@ Vec3a to_vector(const toml::node& node, const std::string& key, const std::strin
 
 // ---------------------------------------------------------------------------------------------
 
-Table::Table(const toml::table& table, std::string name, std::string file)
-    : table_(&table), name_(std::move(name)), file_(std::move(file)) {}
+Table::Table(const toml::table& table, std::string name, std::string file, std::string folder)
+    : table_(&table), name_(std::move(name)), file_(std::move(file)), folder_(std::move(folder)) {
+  if (folder_.empty()) {  // the file's folder, as std::filesystem::path::parent_path() gives
+    const std::size_t slash = file_.rfind('/');
+    folder_ = slash == std::string::npos ? "" : file_.substr(0, slash == 0 ? 1 : slash);
+  }
+}
 
 std::string Table::key_path(std::string_view key) const {
   return name_.empty() ? clip(key) : name_ + "." + clip(key);
@@ -369,7 +374,7 @@ std::optional<Table> Table::table(std::string_view key) const {
   const toml::node* node = find(key);
   if (node == nullptr) return std::nullopt;
   if (!node->is_table()) fail_type(*node, key_path(key), file_, "a table");
-  return Table(*node->as_table(), key_path(key), file_);
+  return Table(*node->as_table(), key_path(key), file_, folder_);
 }
 
 std::vector<Table> Table::table_array(std::string_view key) const {
@@ -381,7 +386,7 @@ std::vector<Table> Table::table_array(std::string_view key) const {
   if (!node->is_array_of_tables()) fail_type(*node, path, file_, expected);
   const toml::array& arr = *node->as_array();
   for (std::size_t i = 0; i < arr.size(); ++i) {
-    out.emplace_back(*arr.get(i)->as_table(), path + "[" + std::to_string(i) + "]", file_);
+    out.emplace_back(*arr.get(i)->as_table(), path + "[" + std::to_string(i) + "]", file_, folder_);
   }
   return out;
 }

@@ -83,11 +83,14 @@ Vec3a to_vector(const toml::node& node, const std::string& key, const std::strin
 // input names enters the name (and messages) clipped: see sable::clip.
 class Table {
  public:
-  Table(const toml::table& table, std::string name, std::string file);
+  // `folder`: where the files the table names by relative paths are (meshes, grain data);
+  // "" for the folder of `file`.
+  Table(const toml::table& table, std::string name, std::string file, std::string folder = "");
 
   const toml::table& raw() const { return *table_; }
   const std::string& name() const { return name_; }
   const std::string& file() const { return file_; }
+  const std::string& folder() const { return folder_; }
   SourceLoc loc() const { return make_loc(table_->source(), file_); }
   std::string key_path(std::string_view key) const;  // "material[1].poisson"
 
@@ -129,6 +132,7 @@ class Table {
   const toml::table* table_;
   std::string name_;
   std::string file_;
+  std::string folder_;
 };
 
 // Error unless hi > lo on every one of the first n axes (reported at `hi_key`).
