@@ -1,8 +1,10 @@
 // Soft-contact DEM: velocity Verlet over grains, contact forces from the World's contact law.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "sable/core/parallel.hpp"
@@ -97,6 +99,7 @@ class DemSolver final : public Solver {
   // update_neighbors: the per-entry scratch fitted to the lists, the near list remade.
   void fit_scratch_to_lists();
   void update_near_list(const Displacements* moved);
+  void update_mesh_reach(bool remade);
   // pair_pass: each grain's rolling factor, then the contact law picked for the pair forces
   // (dry: summed and closed per grain as the pass goes; wet: stored per contact) and, after
   // the bridges' liquid is settled, for the wet runs' closing loop (dem/grain_loops_impl.hpp).
@@ -158,6 +161,24 @@ class DemSolver final : public Solver {
   // contact began (it takes an ended contact's history).
   std::vector<WallFeature<D>> feature_;
   std::vector<std::uint8_t> hand_over_;
+  // Mesh entries only, remade with the near list (update_mesh_reach): kFar where the element
+  // was beyond the grain's radius plus the inner skin (mesh_reach_skin_), the grains since
+  // moving less than half that and each mesh (pose mesh_reach_point_/turn_) less than half
+  // too, so that it cannot touch; else the index of its may_touch values then, mesh_near_ref_
+  // (in entry order: read as a stream), which bound the test while the mesh has not moved
+  // (mesh_still_) and the grain is within |x - mesh_x_ref_| of where they were taken.
+  static constexpr std::uint32_t kFar = ~std::uint32_t{0};
+  std::vector<std::uint32_t> mesh_reach_;
+  std::vector<std::array<double, D + 1>> mesh_near_ref_;
+  std::vector<typename Space<D>::Vec> mesh_x_ref_;
+  std::vector<typename Space<D>::Vec> mesh_reach_point_;
+  std::vector<typename Space<D>::Orientation> mesh_reach_turn_;
+  std::vector<std::uint8_t> mesh_still_;
+  double mesh_reach_skin_ = 0.0;
+  // The (wall, element) pairs whose element_force the last total_wall_forces loaded, cleared
+  // by the next; valid once a call has cleared every element (not before initialize()).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> forced_elements_;
+  bool element_forces_tracked_ = false;
   // The blocks of grains of the step's loops, one per thread: each parallel loop has its own,
   // so that its threads finish together (dem/grain_split.hpp). The pair pass's, and the grains
   // it leaves to the gather, are made again after each near-list remake (update_pair_split()).

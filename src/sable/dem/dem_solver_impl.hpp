@@ -35,7 +35,8 @@ template <int D, class Laws>
 void DemSolver<D, Laws>::initialize() {
   // The lists carry rolling springs exactly when the law has rolling resistance.
   world_.neighbors.rolling = with_rolling();
-  reorder_.build_lists(world_);  // sorting the grains first when due (world/reorder.hpp)
+  reorder_.build_lists(world_);     // sorting the grains first when due (world/reorder.hpp)
+  element_forces_tracked_ = false;  // the world's element forces may come from elsewhere
   compute_forces();
 }
 
@@ -155,8 +156,9 @@ template <int D, class Laws>
 void DemSolver<D, Laws>::update_near_list(const Displacements* moved) {
   auto& nl = world_.neighbors;
   const bool wet = wet_run(), rolling = with_rolling();
-  if (moved ? near_.stale_after(moved->near_max2, world_.particles, nl, wet)
-            : near_.stale(world_.particles, nl, wet)) {
+  const bool remade = moved ? near_.stale_after(moved->near_max2, world_.particles, nl, wet)
+                            : near_.stale(world_.particles, nl, wet);
+  if (remade) {
     near_.remake(world_.particles, nl, world_.dt, wet, [&](std::size_t k) {
       dem_detail::forget_if_ended(nl.pairs.shear.data(), nl.pairs.force.data(), pair_moment_.data(),
                                   pair_delta_.data(), k, Space<D>::zero_rot());
@@ -167,6 +169,7 @@ void DemSolver<D, Laws>::update_near_list(const Displacements* moved) {
     });
   }
   diag_.near_remakes = near_.remakes;
+  if (!feature_.empty()) update_mesh_reach(remade);
 }
 
 // Stage pair_pass: per contact of the near list, its force at the current positions, stored

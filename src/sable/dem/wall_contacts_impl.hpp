@@ -62,12 +62,31 @@ void DemSolver<D, Laws>::mesh_contacts(std::uint32_t k0, std::uint32_t k1, const
   // new (it takes an ended contact's history). Most entries are elements near a grain but
   // not under it: they cost the bounds test and, when they held nothing, no more.
   constexpr std::uint8_t kTouches = 1, kBegins = 2;
+  const Vec x = p.x[i];
+  const double r = p.radius[i];
+  const bool still = mesh_still_[wl.wall[k0]] != 0;
+  const double moved = still ? (x - mesh_x_ref_[i]).norm() : 0.0;
+  // Round-off of the values at either place (sums of products of size |x| + r), and tol_.
+  const double slack = mesh.tolerance() + 1e-13 * (3.0 * x.cwiseAbs().maxCoeff() + r);
   for (std::uint32_t k = k0; k < k1; ++k) {
+    // The common case: out of reach (known since the last remake, or bounded, or tested),
+    // and was.
+    const std::uint32_t q = mesh_reach_[k];
+    if (q == kFar && wall_delta_[k] == 0.0) {
+      hand_over_[k] = 0;
+      continue;
+    }
+    const bool near = (q == kFar || !still ||
+                       MeshShape<D>::may_touch_within(mesh_near_ref_[q], moved, r, slack)) &&
+                      mesh.may_touch(x, r, wl.element[k]);
+    if (!near && wall_delta_[k] == 0.0) {
+      hand_over_[k] = 0;
+      continue;
+    }
     WallFeature<D> f;
     f.active = false;  // an element out of reach holds no touching feature
-    if (mesh.may_touch(p.x[i], p.radius[i], wl.element[k]))
-      f = mesh.contact(wall.point, p.x[i], wl.element[k]);
-    const bool now = f.active && f.dist < p.radius[i];
+    if (near) f = mesh.contact(wall.point, x, wl.element[k]);
+    const bool now = f.active && f.dist < r;
     if (now) feature_[k] = f;
     const bool had =
         wall_delta_[k] != 0.0 && (wl.force[k] != Vec::Zero() || wl.shear[k] != Vec::Zero());
@@ -102,6 +121,47 @@ void DemSolver<D, Laws>::mesh_contacts(std::uint32_t k0, std::uint32_t k1, const
     }
     wall_contact<Normal>(k, wall, feature_[k], max_ratio, touching);
   }
+}
+
+// The mesh entries that cannot touch before the next remake, and the bounds of the others
+// (mesh_reach_): made at each near-list remake, and again when a mesh has moved half the
+// inner skin since (a driven mesh, whose bounds do not apply while it moves).
+template <int D, class Laws>
+void DemSolver<D, Laws>::update_mesh_reach(bool remade) {
+  const auto& nl = world_.neighbors;
+  const auto& wl = nl.wall_pairs;
+  const auto& walls = world_.walls;
+  bool due = remade || mesh_reach_.size() != wl.size() || mesh_reach_point_.size() != walls.size();
+  for (std::size_t w = 0; w < walls.size() && !due; ++w)
+    due =
+        walls[w].is_mesh() && 2.0 * walls[w].moved_since(mesh_reach_point_[w], mesh_reach_turn_[w],
+                                                         nl.domain_lo, nl.domain_hi) >=
+                                  mesh_reach_skin_;
+  if (due) {
+    mesh_reach_skin_ = near_.skin;  // infinite in wet runs: every entry is tested
+    mesh_reach_point_.resize(walls.size());
+    mesh_reach_turn_.resize(walls.size());
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      mesh_reach_point_[w] = walls[w].point;
+      mesh_reach_turn_[w] = walls[w].orientation;
+    }
+    const auto& p = world_.particles;
+    mesh_x_ref_ = p.x;
+    assign_ahead(mesh_reach_, wl.size(), kFar);
+    mesh_near_ref_.clear();
+    for (std::size_t k = 0; k < wl.size(); ++k) {
+      const MeshShape<D>* mesh = walls[wl.wall[k]].mesh();
+      const std::uint32_t i = wl.i[k];
+      if (!mesh || !mesh->may_touch(p.x[i], p.radius[i] + mesh_reach_skin_, wl.element[k]))
+        continue;
+      mesh_reach_[k] = static_cast<std::uint32_t>(mesh_near_ref_.size());
+      mesh_near_ref_.push_back(mesh->reach_values(p.x[i], wl.element[k]));
+    }
+  }
+  mesh_still_.resize(walls.size());
+  for (std::size_t w = 0; w < walls.size(); ++w)
+    mesh_still_[w] = walls[w].moved_since(mesh_reach_point_[w], mesh_reach_turn_[w], nl.domain_lo,
+                                          nl.domain_hi) == 0.0;
 }
 
 // Wall pair k's contact, at the feature f of its wall: its force on the grain, n x F and
@@ -165,18 +225,34 @@ void DemSolver<D, Laws>::total_wall_forces() {
   for (auto& wall : world_.walls) {
     wall.force.setZero();
     wall.torque = S::zero_rot();
-    wall.element_force.assign(wall.is_mesh() ? wall.elements() : 0, S::zero());
+    if (!wall.is_mesh()) {
+      wall.element_force.clear();
+    } else if (!element_forces_tracked_ || wall.element_force.size() != wall.elements()) {
+      wall.element_force.assign(wall.elements(), S::zero());
+      forced_elements_.clear();
+    }
   }
+  // A fine mesh has far more elements than touching ones: only those the last call loaded
+  // are cleared.
+  for (const auto& [w, e] : forced_elements_) world_.walls[w].element_force[e] = S::zero();
+  forced_elements_.clear();
+  element_forces_tracked_ = true;
   for (std::size_t k = 0; k < wl.size(); ++k) {
+    // An entry apart holds no force (forget_if_ended clears it as its overlap turns 0), and
+    // most of a fine mesh's entries are apart: they cost this one load.
+    if (wall_delta_[k] == 0.0) continue;
     Wall<D>& wall = world_.walls[wl.wall[k]];
     const auto& f = wl.force[k];
     wall.force -= f;
-    if (wall_delta_[k] <= 0.0) continue;
+    if (wall_delta_[k] < 0.0) continue;
     const std::uint32_t i = wl.i[k];
     wall.torque +=
         (p.radius[i] - 0.5 * wall_delta_[k]) * wall_moment_[k] - S::moment(p.x[i] - wall.pivot, f);
     if (rolling) wall.torque -= wall_roll_[k];  // the reaction to the grain's rolling couple
-    if (!wall.element_force.empty()) wall.element_force[wl.element[k]] -= f;
+    if (!wall.element_force.empty()) {
+      wall.element_force[wl.element[k]] -= f;
+      forced_elements_.emplace_back(wl.wall[k], wl.element[k]);
+    }
   }
 }
 

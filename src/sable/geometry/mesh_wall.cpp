@@ -44,41 +44,36 @@ void MeshShape<D>::place(const Matrix& r, const Vec& point) {
   derive();
 }
 
-// Normals, in-plane edge normals and edge directions at the current pose.
+// Each element's plane and sides (reach_), and the edges' directions at the current pose.
+// 3D: side k is edge k's in-plane unit normal into the triangle (edge k joins corners k and
+// k+1); 2D: side 0 faces along the segment from its first end, side 1 against it from its
+// second.
 template <int D>
 void MeshShape<D>::derive() {
   const auto& s = *surface_;
-  normal_.resize(s.size());
-  ball_.resize(s.size());
-  for (std::size_t t = 0; t < s.size(); ++t) {
-    Vec c = Vec::Zero();
-    for (std::uint32_t v : s.elements[t]) c += x_[v];
-    c /= static_cast<double>(D);
-    double r2 = 0.0;
-    for (std::uint32_t v : s.elements[t]) r2 = std::max(r2, (x_[v] - c).squaredNorm());
-    ball_[t] = {c, std::sqrt(r2) * (1.0 + 1e-12)};  // rounding of r2 never shrinks it
-  }
+  reach_.resize(s.size());
   if constexpr (D == 3) {
-    inward_.resize(s.size());
-    for (std::size_t t = 0; t < s.size(); ++t) {
-      const auto& c = s.elements[t];
-      const Vec n = (x_[c[1]] - x_[c[0]]).cross(x_[c[2]] - x_[c[0]]).normalized();
-      normal_[t] = n;
-      for (int k = 0; k < 3; ++k) {
-        const Vec e =
-            x_[c[static_cast<std::size_t>((k + 1) % 3)]] - x_[c[static_cast<std::size_t>(k)]];
-        inward_[t][static_cast<std::size_t>(k)] = n.cross(e).normalized();
-      }
-    }
     dir_.resize(s.edges.size());
     for (std::size_t e = 0; e < s.edges.size(); ++e)
       dir_[e] = (x_[s.edges[e][1]] - x_[s.edges[e][0]]).normalized();
   } else {
     dir_.resize(s.size());
-    for (std::size_t t = 0; t < s.size(); ++t) {
-      dir_[t] = (x_[s.elements[t][1]] - x_[s.elements[t][0]]).normalized();
-      normal_[t] = Vec(-dir_[t].y(), dir_[t].x());
+  }
+  for (std::size_t t = 0; t < s.size(); ++t) {
+    const auto& c = s.elements[t];
+    Reach& q = reach_[t];
+    if constexpr (D == 3) {
+      q.normal = (x_[c[1]] - x_[c[0]]).cross(x_[c[2]] - x_[c[0]]).normalized();
+      for (std::size_t k = 0; k < 3; ++k)
+        q.side[k] = q.normal.cross(x_[c[(k + 1) % 3]] - x_[c[k]]).normalized();
+    } else {
+      dir_[t] = (x_[c[1]] - x_[c[0]]).normalized();
+      q.normal = Vec(-dir_[t].y(), dir_[t].x());
+      q.side = {dir_[t], Vec(-dir_[t])};
     }
+    q.height = q.normal.dot(x_[c[0]]);
+    for (std::size_t k = 0; k < static_cast<std::size_t>(D); ++k)
+      q.offset[k] = q.side[k].dot(x_[c[k]]);
   }
 }
 
@@ -110,7 +105,7 @@ double MeshShape<D>::element_distance(const Vec& x, std::uint32_t e) const {
     // Inside the triangle's prism: the distance to its plane; else to its nearest edge.
     bool inside = true;
     for (int k = 0; k < 3; ++k) inside = inside && edge_function(e, k, x) >= 0.0;
-    if (inside) return std::abs((x - x_[c[0]]).dot(normal_[e]));
+    if (inside) return std::abs((x - x_[c[0]]).dot(reach_[e].normal));
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < 3; ++k)
       best = std::min(best, (x - closest_on_segment(x_[c[k]], x_[c[(k + 1) % 3]], x)).norm());
@@ -118,10 +113,11 @@ double MeshShape<D>::element_distance(const Vec& x, std::uint32_t e) const {
   }
 }
 
+// From the packed plane and sides may_touch reads: the face test after it finds them cached.
 template <int D>
 double MeshShape<D>::edge_function(std::uint32_t t, int k, const Vec& c) const {
-  const auto& corner = surface_->elements[t];
-  return (c - x_[corner[static_cast<std::size_t>(k)]]).dot(inward_[t][static_cast<std::size_t>(k)]);
+  const Reach& q = reach_[t];
+  return q.side[static_cast<std::size_t>(k)].dot(c) - q.offset[static_cast<std::size_t>(k)];
 }
 
 // The contact with the surface point p of element e, nearest to c: its normal points from p
@@ -131,7 +127,7 @@ void MeshShape<D>::point_feature(const Vec& c, const Vec& p, std::uint32_t e,
                                  WallFeature<D>& f) const {
   const Vec d = c - p;
   f.dist = d.norm();
-  f.n = f.dist > 0.0 ? Vec(d / f.dist) : normal_[e];
+  f.n = f.dist > 0.0 ? Vec(d / f.dist) : reach_[e].normal;
 }
 
 // Edge `edge` (3D) or segment `edge` (2D) holds c's nearest point: c projects strictly inside
@@ -139,6 +135,14 @@ void MeshShape<D>::point_feature(const Vec& c, const Vec& p, std::uint32_t e,
 template <int D>
 bool MeshShape<D>::edge_region(std::uint32_t edge, const Vec& c, WallFeature<D>& f) const {
   const auto& s = *surface_;
+  if constexpr (D == 3) {  // first the triangles' sides: on a flat mesh, the one that fails
+    for (std::uint32_t t : s.edge_elements[edge]) {
+      if (t == kNoElement) continue;
+      const auto& te = s.element_edges[t];
+      const int k = te[0] == edge ? 0 : (te[1] == edge ? 1 : 2);
+      if (edge_function(t, k, c) > tol_) return false;
+    }
+  }
   const auto ends = D == 3 ? s.edges[edge]
                            : std::array<std::uint32_t, 2>{s.elements[edge][0], s.elements[edge][1]};
   const double alpha = (c - x_[ends[0]]).dot(dir_[edge]);
@@ -146,12 +150,6 @@ bool MeshShape<D>::edge_region(std::uint32_t edge, const Vec& c, WallFeature<D>&
   if (!(alpha > tol_ && beta < -tol_)) return false;
   std::uint32_t owner = edge;
   if constexpr (D == 3) {
-    for (std::uint32_t t : s.edge_elements[edge]) {
-      if (t == kNoElement) continue;
-      const auto& te = s.element_edges[t];
-      const int k = te[0] == edge ? 0 : (te[1] == edge ? 1 : 2);
-      if (edge_function(t, k, c) > tol_) return false;
-    }
     owner = s.edge_owner[edge];
     f.feature = static_cast<std::uint32_t>(s.size()) + edge;
   } else {
@@ -161,21 +159,21 @@ bool MeshShape<D>::edge_region(std::uint32_t edge, const Vec& c, WallFeature<D>&
   return true;
 }
 
+template <int D>
+bool MeshShape<D>::beside_vertex(std::uint32_t v, std::uint32_t edge, const Vec& c) const {
+  const auto& s = *surface_;
+  const auto ends = D == 3 ? s.edges[edge]
+                           : std::array<std::uint32_t, 2>{s.elements[edge][0], s.elements[edge][1]};
+  const double along = (c - x_[v]).dot(dir_[edge]);  // from v, along the edge's direction
+  return ends[0] == v ? along > tol_ : along < -tol_;
+}
+
 // Vertex v holds c's nearest point: c's projection on each of its edges lies at or beyond v.
 template <int D>
 bool MeshShape<D>::vertex_region(std::uint32_t v, const Vec& c, WallFeature<D>& f) const {
   const auto& s = *surface_;
-  for (std::uint32_t k = s.vertex_edge_begin[v]; k < s.vertex_edge_begin[v + 1]; ++k) {
-    const std::uint32_t edge = s.vertex_edges[k];
-    const auto ends = D == 3
-                          ? s.edges[edge]
-                          : std::array<std::uint32_t, 2>{s.elements[edge][0], s.elements[edge][1]};
-    if (ends[0] == v) {
-      if ((c - x_[ends[0]]).dot(dir_[edge]) > tol_) return false;
-    } else if ((c - x_[ends[1]]).dot(dir_[edge]) < -tol_) {
-      return false;
-    }
-  }
+  for (std::uint32_t k = s.vertex_edge_begin[v]; k < s.vertex_edge_begin[v + 1]; ++k)
+    if (beside_vertex(v, s.vertex_edges[k], c)) return false;
   const auto before = static_cast<std::uint32_t>(s.size() + s.edges.size());
   f.feature = before + v;
   point_feature(c, x_[v], s.vertex_owner[v], f);
@@ -188,21 +186,32 @@ WallFeature<D> MeshShape<D>::contact(const Vec&, const Vec& c, std::uint32_t e) 
   const auto& corner = s.elements[e];
   WallFeature<D> f;
   if constexpr (D == 3) {
-    if (edge_function(e, 0, c) > tol_ && edge_function(e, 1, c) > tol_ &&
-        edge_function(e, 2, c) > tol_) {
-      const double h = (c - x_[corner[0]]).dot(normal_[e]);
+    const std::array<double, 3> side{edge_function(e, 0, c), edge_function(e, 1, c),
+                                     edge_function(e, 2, c)};
+    if (side[0] > tol_ && side[1] > tol_ && side[2] > tol_) {
+      const double h = reach_[e].normal.dot(c) - reach_[e].height;
       f.dist = std::abs(h);
-      f.n = h >= 0.0 ? normal_[e] : Vec(-normal_[e]);
+      f.n = h >= 0.0 ? reach_[e].normal : Vec(-reach_[e].normal);
       f.feature = e;
       return f;
     }
-    for (std::uint32_t edge : s.element_edges[e])
-      if (s.edge_owner[edge] == e && edge_region(edge, c, f)) return f;
+    // Edge k's region needs side k at or below tol_ (edge_region tests the very same number).
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t edge = s.element_edges[e][k];
+      if (side[k] <= tol_ && s.edge_owner[edge] == e && edge_region(edge, c, f)) return f;
+    }
   } else {
     if (edge_region(e, c, f)) return f;
   }
-  for (std::uint32_t v : corner)
-    if (s.vertex_owner[v] == e && vertex_region(v, c, f)) return f;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(D); ++k) {
+    const std::uint32_t v = corner[k];
+    if (s.vertex_owner[v] != e) continue;
+    if constexpr (D == 3) {  // first the element's own two edges at v (the same tests)
+      const auto& te = s.element_edges[e];
+      if (beside_vertex(v, te[k], c) || beside_vertex(v, te[(k + 2) % 3], c)) continue;
+    }
+    if (vertex_region(v, c, f)) return f;
+  }
   f.active = false;
   return f;
 }

@@ -21,6 +21,8 @@
 // mesh moved (angle times the largest vertex distance from the origin) is tight.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 
@@ -70,38 +72,73 @@ struct MeshShape {
   // False when no point of element e lies within r of x: the cheap test that spares the
   // feature regions of the elements a grain only nears. A point p of the element within r of
   // x lies within s = sqrt(r^2 - h^2) of x's projection on the element's plane (h: x's height
-  // above it), and within the element's disk (centroid c, radius rho) in that plane: so the
-  // projection lies within s + rho of c. On a fine flat mesh that keeps the few elements
-  // under a grain's contact cap, where a ball test would keep all within r + rho.
+  // above it); each side function of the element (in-plane unit normal u_k into it, so
+  // u_k . p >= o_k on the element) then exceeds -s at x, u_k being normal to the plane. On a
+  // fine flat mesh that keeps the one to six elements under a grain's contact cap; `tol_`
+  // keeps it on the safe side of round-off.
   bool may_touch(const Vec& x, double r, std::uint32_t e) const {
-    const Vec d = x - ball_[e].centre;
-    const double h = d.dot(normal_[e]);
+    const Reach& q = reach_[e];
+    const double h = q.normal.dot(x) - q.height;
     const double s2 = r * r - h * h;
     if (!(s2 > 0.0)) return false;
-    const double reach = std::sqrt(s2) + ball_[e].radius;
-    return d.squaredNorm() - h * h < reach * reach;
+    const double s = -std::sqrt(s2) - tol_;
+    for (int k = 0; k < D; ++k)
+      if (q.side[static_cast<std::size_t>(k)].dot(x) - q.offset[static_cast<std::size_t>(k)] < s)
+        return false;
+    return true;
   }
+
+  // What may_touch computes at x for element e: its height above the plane, then its D side
+  // functions. Kept at a reference position x0, they bound the test at any x within d of x0
+  // (may_touch_within): the plane and the sides are unit-normal, so each value moves by at
+  // most d. `slack` covers the round-off of both evaluations and tol_.
+  std::array<double, D + 1> reach_values(const Vec& x, std::uint32_t e) const {
+    const Reach& q = reach_[e];
+    std::array<double, D + 1> v;
+    v[0] = q.normal.dot(x) - q.height;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(D); ++k)
+      v[k + 1] = q.side[k].dot(x) - q.offset[k];
+    return v;
+  }
+  // False only where may_touch(x, r, e) is false for every x within d of the place the
+  // values were taken at.
+  static bool may_touch_within(const std::array<double, D + 1>& v, double d, double r,
+                               double slack) {
+    const double h = std::abs(v[0]) - d - slack;  // the least |height| within d
+    if (h >= r) return false;
+    const double h_min = std::max(0.0, h);
+    const double s = std::sqrt(r * r - h_min * h_min) + 2.0 * slack;  // the widest cap
+    for (std::size_t k = 1; k <= static_cast<std::size_t>(D); ++k)
+      if (v[k] + d < -s) return false;
+    return true;
+  }
+  // The regions' border width (1e-12 of the mesh's size).
+  double tolerance() const { return tol_; }
 
   // The element's unit normal (3D: right-hand rule; 2D: the segment's direction turned +90
   // degrees) at the current pose.
-  const Vec& element_normal(std::uint32_t e) const { return normal_[e]; }
+  const Vec& element_normal(std::uint32_t e) const { return reach_[e].normal; }
 
  private:
   double edge_function(std::uint32_t t, int k, const Vec& c) const;
   bool edge_region(std::uint32_t edge, const Vec& c, WallFeature<D>& f) const;
+  // c's projection on `edge`, one of v's, lies beyond v: v's region excludes c.
+  bool beside_vertex(std::uint32_t v, std::uint32_t edge, const Vec& c) const;
   bool vertex_region(std::uint32_t v, const Vec& c, WallFeature<D>& f) const;
   void point_feature(const Vec& c, const Vec& p, std::uint32_t e, WallFeature<D>& f) const;
   void derive();
 
   std::shared_ptr<const SurfaceMesh<D>> surface_;  // body frame; shared by copies
   std::vector<Vec> x_;                             // vertices at the current pose
-  std::vector<Vec> normal_;                        // per element
-  struct Ball {
-    Vec centre;
-    double radius;
+  // Per element, what may_touch and the face test read, packed: the plane n . x = height, its
+  // D sides (3D: edges; 2D: the segment's ends) u_k . x >= offset_k, u_k unit and in-plane.
+  struct Reach {
+    Vec normal;
+    double height;
+    std::array<Vec, D> side;
+    std::array<double, D> offset;
   };
-  std::vector<Ball> ball_;  // per element: its centroid and a radius about it holding it
-  std::vector<std::array<Vec, 3>> inward_;  // 3D: per triangle edge, unit, into it
+  std::vector<Reach> reach_;
   std::vector<Vec> dir_;  // unit direction of each edge (3D) or segment (2D), first to second
   double tol_ = 0.0;      // 1e-12 of the mesh's size: the regions' borders
   double extent_ = 0.0;

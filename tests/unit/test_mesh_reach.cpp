@@ -1,0 +1,127 @@
+// The shortcuts of mesh contacts in the DEM (dem/wall_contacts_impl.hpp, update_mesh_reach):
+// entries beyond reach at a near-list remake are skipped until the next, and the others are
+// tested first against the bound their values at the remake give (MeshShape::
+// may_touch_within). Both only skip elements the exact test would reject, so the bits do not
+// depend on when the lists are remade.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "sable/core/hash.hpp"
+#include "sable/core/rng.hpp"
+#include "sable/dem/dem_solver.hpp"
+#include "sable/geometry/surface_mesh.hpp"
+
+namespace {
+
+using V3 = Eigen::Vector3d;
+using sable::World;
+
+constexpr double kR = 1e-3;  // grain radius (m)
+
+// The grains' motion and the walls' loads (the lists' bookkeeping differs with the remakes).
+std::uint64_t motion_hash(const World<3>& w) {
+  sable::Hasher h;
+  for (const auto* a : {&w.particles.x, &w.particles.v, &w.particles.omega})
+    h.bytes(a->data(), a->size() * sizeof(V3));
+  for (const auto& wall : w.walls) h.bytes(wall.force.data(), sizeof(V3));
+  return h.digest();
+}
+
+// An n x n grid of squares of side a, two triangles each, in z = 0 centred on the origin.
+sable::SurfaceMesh<3> grid(int n, double a) {
+  std::vector<V3> v;
+  std::vector<std::array<std::uint32_t, 3>> t;
+  const double x0 = -0.5 * n * a;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) v.emplace_back(x0 + i * a, x0 + j * a, 0.0);
+  const auto id = [n](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      t.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      t.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return sable::build_surface<3>(std::move(v), std::move(t), "grid");
+}
+
+// For grains placed anywhere near a faceted cylinder and a fine grid, moved by up to d from
+// where the values were taken: wherever the bound rejects an element, the exact test at the
+// new place rejects it too (the bound is a bound, with the solver's slack). The bound must
+// also reject most elements far from the grain, or it would spare nothing.
+TEST(MeshReach, TheBoundRejectsOnlyWhatTheExactTestRejects) {
+  for (int shape = 0; shape < 2; ++shape) {
+    V3 origin;
+    const sable::MeshShape<3> mesh(shape == 0
+                                       ? sable::cylinder_surface(V3::Zero(), V3(1, 0, 0), 5 * kR,
+                                                                 20 * kR, 32, 4, true, "cylinder")
+                                       : grid(40, 0.5 * kR),
+                                   origin);
+    sable::Rng rng(7 + static_cast<std::uint64_t>(shape));
+    long rejected = 0, checked = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+      const double px = rng.uniform(-12, 12), py = rng.uniform(-8, 8), pz = rng.uniform(-8, 8);
+      const V3 x0 = V3(px, py, pz) * kR;
+      const double r = rng.uniform(0.5, 1.5) * kR, d = rng.uniform(0.0, 0.3) * kR;
+      const double ux = rng.uniform(-1, 1), uy = rng.uniform(-1, 1), uz = rng.uniform(-1, 1);
+      const V3 x = x0 + d * rng.uniform() * V3(ux, uy, uz).normalized();
+      const double slack = mesh.tolerance() + 1e-13 * (3.0 * x.cwiseAbs().maxCoeff() + r);
+      for (std::uint32_t e = 0; e < mesh.elements(); ++e) {
+        if (sable::MeshShape<3>::may_touch_within(mesh.reach_values(x0, e), d, r, slack)) continue;
+        ++rejected;
+        ASSERT_FALSE(mesh.may_touch(x, r, e)) << "shape " << shape << " trial " << trial;
+      }
+      checked += mesh.elements();
+    }
+    EXPECT_GT(rejected, checked / 2) << "shape " << shape;
+  }
+}
+
+// Grains pressed onto a fine still mesh floor (3,200 triangles of 0.5 R), sliding across its
+// edges: the same bits when the lists are remade at every step (the skipped entries and the
+// bounds then taken afresh at each step, d = 0) as when remade only when due.
+TEST(MeshReach, FineFloorGivesTheSameBitsWhateverTheRemakes) {
+  std::uint64_t hashes[2];
+  for (int every = 0; every < 2; ++every) {
+    World<3> w;
+    w.materials.add({"g", 2500.0, 1e7, 0.3, 0.5, 0.5, 0.0});
+    w.materials.finalize();
+    w.neighbors.skin = 0.2 * kR;
+    w.neighbors.domain_lo = -0.02 * V3::Ones();
+    w.neighbors.domain_hi = 0.02 * V3::Ones();
+    w.dt = 1e-6;
+    w.reorder_every = 0;
+    w.gravity = V3(0, 0, -9.81);
+    sable::Wall<3> floor;
+    floor.name = "floor";
+    floor.set_mesh(grid(40, 0.5 * kR));
+    w.walls.push_back(std::move(floor));
+    sable::Rng rng(3);
+    // A 6 x 6 square of grains 2.5 R apart, at about their resting overlap (5e-4 R), sliding
+    // across the grid's edges at up to 0.1 m/s.
+    for (int k = 0; k < 36; ++k) {
+      const double z = rng.uniform(0.8994, 0.8996);
+      const V3 x(2.5 * (k % 6 - 2.5), 2.5 * (k / 6 - 2.5), z);
+      w.particles.add(x * kR, 0.9 * kR, 2500.0, 0, 1.0);
+      const double vx = rng.uniform(-0.1, 0.1), vy = rng.uniform(-0.1, 0.1);
+      w.particles.v.back() = V3(vx, vy, 0.0);
+    }
+    sable::DemSolver<3> s(w);
+    s.initialize();
+    for (int step = 0; step < 4000; ++step) {
+      if (every) w.neighbors.x_ref.clear();
+      s.step();
+    }
+    // The grains still press on the floor (they start pressed in, and gravity holds them):
+    // it pushes up, and on each of them.
+    EXPECT_LT(w.walls[0].force.z(), 0.0);
+    int touching = 0;
+    for (std::size_t k = 0; k < w.neighbors.wall_pairs.size(); ++k)
+      touching += w.neighbors.wall_pairs.force[k] != V3::Zero() ? 1 : 0;
+    EXPECT_GE(touching, 36);
+    hashes[every] = motion_hash(w);
+  }
+  EXPECT_EQ(hashes[0], hashes[1]);
+}
+
+}  // namespace
