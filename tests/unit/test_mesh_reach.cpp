@@ -77,6 +77,42 @@ TEST(MeshReach, TheBoundRejectsOnlyWhatTheExactTestRejects) {
   }
 }
 
+// An element that answers for no feature at c answers for none anywhere within its margin of
+// c (less the solver's slack): each region test's value moves by at most the distance moved.
+// Near a faceted cylinder (convex edges and vertices) and a fine flat grid (flat ones).
+TEST(MeshReach, NoFeatureWithinTheMargin) {
+  for (int shape = 0; shape < 2; ++shape) {
+    V3 origin;
+    const sable::MeshShape<3> mesh(shape == 0
+                                       ? sable::cylinder_surface(V3::Zero(), V3(1, 0, 0), 5 * kR,
+                                                                 20 * kR, 32, 4, true, "cylinder")
+                                       : grid(40, 0.5 * kR),
+                                   origin);
+    sable::Rng rng(11 + static_cast<std::uint64_t>(shape));
+    long kept = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+      const double px = rng.uniform(-12, 12), py = rng.uniform(-8, 8), pz = rng.uniform(-8, 8);
+      const V3 c = V3(px, py, pz) * kR;
+      const double slack = mesh.tolerance() + 1e-13 * (3.0 * c.cwiseAbs().maxCoeff() + kR);
+      for (std::uint32_t e = 0; e < mesh.elements(); ++e) {
+        double margin = 0.0;
+        if (mesh.contact(origin, c, e, margin).active) {
+          EXPECT_EQ(margin, 0.0);
+          continue;
+        }
+        ASSERT_GE(margin, 0.0);
+        if (margin <= slack) continue;
+        // Out to the border of the margin (0.999 of it), in a random direction.
+        const double ux = rng.uniform(-1, 1), uy = rng.uniform(-1, 1), uz = rng.uniform(-1, 1);
+        const V3 c2 = c + 0.999 * (margin - slack) * V3(ux, uy, uz).normalized();
+        ASSERT_FALSE(mesh.contact(origin, c2, e).active) << "shape " << shape << " trial " << trial;
+        ++kept;
+      }
+    }
+    EXPECT_GT(kept, 1000) << "shape " << shape;
+  }
+}
+
 // Grains pressed onto a fine still mesh floor (3,200 triangles of 0.5 R), sliding across its
 // edges: the same bits when the lists are remade at every step (the skipped entries and the
 // bounds then taken afresh at each step, d = 0) as when remade only when due.
@@ -101,7 +137,8 @@ TEST(MeshReach, FineFloorGivesTheSameBitsWhateverTheRemakes) {
     // across the grid's edges at up to 0.1 m/s.
     for (int k = 0; k < 36; ++k) {
       const double z = rng.uniform(0.8994, 0.8996);
-      const V3 x(2.5 * (k % 6 - 2.5), 2.5 * (k / 6 - 2.5), z);
+      const int col = k % 6, row = k / 6;  // the square's column and row
+      const V3 x(2.5 * (col - 2.5), 2.5 * (row - 2.5), z);
       w.particles.add(x * kR, 0.9 * kR, 2500.0, 0, 1.0);
       const double vx = rng.uniform(-0.1, 0.1), vy = rng.uniform(-0.1, 0.1);
       w.particles.v.back() = V3(vx, vy, 0.0);

@@ -119,6 +119,8 @@ class DemSolver final : public Solver {
   template <class Normal>
   void wall_contact(std::size_t k, const Wall<D>& wall, const WallFeature<D>& f, double& max_ratio,
                     std::size_t& touching);
+  WallFeature<D> mesh_feature(std::uint32_t k, const Wall<D>& wall, const typename Space<D>::Vec& x,
+                              double r, double moved, double slack);
   template <class Normal>
   void mesh_contacts(std::uint32_t k0, std::uint32_t k1, const Wall<D>& wall, double& max_ratio,
                      std::size_t& touching);
@@ -167,9 +169,16 @@ class DemSolver final : public Solver {
   // too, so that it cannot touch; else the index of its may_touch values then, mesh_near_ref_
   // (in entry order: read as a stream), which bound the test while the mesh has not moved
   // (mesh_still_) and the grain is within |x - mesh_x_ref_| of where they were taken.
+  // Each near entry's record also keeps its last inactive answer: where it was found and
+  // its margin (-1: none), see mesh_feature().
   static constexpr std::uint32_t kFar = ~std::uint32_t{0};
+  struct MeshNearRef {
+    std::array<double, D + 1> values;
+    typename Space<D>::Vec x;
+    double margin;
+  };
   std::vector<std::uint32_t> mesh_reach_;
-  std::vector<std::array<double, D + 1>> mesh_near_ref_;
+  std::vector<MeshNearRef> mesh_near_ref_;
   std::vector<typename Space<D>::Vec> mesh_x_ref_;
   std::vector<typename Space<D>::Vec> mesh_reach_point_;
   std::vector<typename Space<D>::Orientation> mesh_reach_turn_;

@@ -69,24 +69,17 @@ void DemSolver<D, Laws>::mesh_contacts(std::uint32_t k0, std::uint32_t k1, const
   // Round-off of the values at either place (sums of products of size |x| + r), and tol_.
   const double slack = mesh.tolerance() + 1e-13 * (3.0 * x.cwiseAbs().maxCoeff() + r);
   for (std::uint32_t k = k0; k < k1; ++k) {
-    // The common case: out of reach (known since the last remake, or bounded, or tested),
-    // and was.
-    const std::uint32_t q = mesh_reach_[k];
-    if (q == kFar && wall_delta_[k] == 0.0) {
+    // The common case: out of reach since the last remake, and was.
+    if (mesh_reach_[k] == kFar && wall_delta_[k] == 0.0) {
       hand_over_[k] = 0;
       continue;
     }
-    const bool near = (q == kFar || !still ||
-                       MeshShape<D>::may_touch_within(mesh_near_ref_[q], moved, r, slack)) &&
-                      mesh.may_touch(x, r, wl.element[k]);
-    if (!near && wall_delta_[k] == 0.0) {
-      hand_over_[k] = 0;
-      continue;
-    }
-    WallFeature<D> f;
-    f.active = false;  // an element out of reach holds no touching feature
-    if (near) f = mesh.contact(wall.point, x, wl.element[k]);
+    const WallFeature<D> f = mesh_feature(k, wall, x, r, still ? moved : -1.0, slack);
     const bool now = f.active && f.dist < r;
+    if (!now && wall_delta_[k] == 0.0) {  // apart, and was
+      hand_over_[k] = 0;
+      continue;
+    }
     if (now) feature_[k] = f;
     const bool had =
         wall_delta_[k] != 0.0 && (wl.force[k] != Vec::Zero() || wl.shear[k] != Vec::Zero());
@@ -155,13 +148,42 @@ void DemSolver<D, Laws>::update_mesh_reach(bool remade) {
       if (!mesh || !mesh->may_touch(p.x[i], p.radius[i] + mesh_reach_skin_, wl.element[k]))
         continue;
       mesh_reach_[k] = static_cast<std::uint32_t>(mesh_near_ref_.size());
-      mesh_near_ref_.push_back(mesh->reach_values(p.x[i], wl.element[k]));
+      mesh_near_ref_.push_back({mesh->reach_values(p.x[i], wl.element[k]), p.x[i], -1.0});
     }
   }
   mesh_still_.resize(walls.size());
   for (std::size_t w = 0; w < walls.size(); ++w)
     mesh_still_[w] = walls[w].moved_since(mesh_reach_point_[w], mesh_reach_turn_[w], nl.domain_lo,
                                           nl.domain_hi) == 0.0;
+}
+
+// The feature mesh entry k's element answers for at grain centre x (inactive where none):
+// the exact test (may_touch, then the feature regions) unless, the mesh still since the
+// last remake (`moved` >= 0: the grain's distance from its place then), the bound of the
+// remake's values rejects the element, or the last inactive answer holds (x within its
+// margin of where it was found). Both skip only what the exact test rejects.
+template <int D, class Laws>
+WallFeature<D> DemSolver<D, Laws>::mesh_feature(std::uint32_t k, const Wall<D>& wall,
+                                                const typename Space<D>::Vec& x, double r,
+                                                double moved, double slack) {
+  const MeshShape<D>& mesh = *wall.mesh();
+  const std::uint32_t e = world_.neighbors.wall_pairs.element[k];
+  const std::uint32_t q = mesh_reach_[k];
+  WallFeature<D> f;
+  f.active = false;
+  if (q == kFar || moved < 0.0) {
+    if (mesh.may_touch(x, r, e)) f = mesh.contact(wall.point, x, e);
+    return f;
+  }
+  MeshNearRef& ref = mesh_near_ref_[q];
+  if (!MeshShape<D>::may_touch_within(ref.values, moved, r, slack)) return f;
+  if (ref.margin > (x - ref.x).norm() + slack) return f;
+  if (!mesh.may_touch(x, r, e)) return f;
+  double margin = 0.0;
+  f = mesh.contact(wall.point, x, e, margin);
+  ref.x = x;
+  ref.margin = f.active ? -1.0 : margin;
+  return f;
 }
 
 // Wall pair k's contact, at the feature f of its wall: its force on the grain, n x F and

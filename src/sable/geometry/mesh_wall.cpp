@@ -133,21 +133,33 @@ void MeshShape<D>::point_feature(const Vec& c, const Vec& p, std::uint32_t e,
 // Edge `edge` (3D) or segment `edge` (2D) holds c's nearest point: c projects strictly inside
 // it, and (3D) not into either of its triangles.
 template <int D>
-bool MeshShape<D>::edge_region(std::uint32_t edge, const Vec& c, WallFeature<D>& f) const {
+bool MeshShape<D>::edge_region(std::uint32_t edge, const Vec& c, WallFeature<D>& f,
+                               double& margin) const {
   const auto& s = *surface_;
   if constexpr (D == 3) {  // first the triangles' sides: on a flat mesh, the one that fails
     for (std::uint32_t t : s.edge_elements[edge]) {
       if (t == kNoElement) continue;
       const auto& te = s.element_edges[t];
       const int k = te[0] == edge ? 0 : (te[1] == edge ? 1 : 2);
-      if (edge_function(t, k, c) > tol_) return false;
+      const double side = edge_function(t, k, c);
+      if (side > tol_) {
+        margin = side - tol_;
+        return false;
+      }
     }
   }
   const auto ends = D == 3 ? s.edges[edge]
                            : std::array<std::uint32_t, 2>{s.elements[edge][0], s.elements[edge][1]};
   const double alpha = (c - x_[ends[0]]).dot(dir_[edge]);
   const double beta = (c - x_[ends[1]]).dot(dir_[edge]);
-  if (!(alpha > tol_ && beta < -tol_)) return false;
+  if (!(alpha > tol_)) {
+    margin = tol_ - alpha;
+    return false;
+  }
+  if (!(beta < -tol_)) {
+    margin = beta + tol_;
+    return false;
+  }
   std::uint32_t owner = edge;
   if constexpr (D == 3) {
     owner = s.edge_owner[edge];
@@ -160,20 +172,23 @@ bool MeshShape<D>::edge_region(std::uint32_t edge, const Vec& c, WallFeature<D>&
 }
 
 template <int D>
-bool MeshShape<D>::beside_vertex(std::uint32_t v, std::uint32_t edge, const Vec& c) const {
+bool MeshShape<D>::beside_vertex(std::uint32_t v, std::uint32_t edge, const Vec& c,
+                                 double& margin) const {
   const auto& s = *surface_;
   const auto ends = D == 3 ? s.edges[edge]
                            : std::array<std::uint32_t, 2>{s.elements[edge][0], s.elements[edge][1]};
   const double along = (c - x_[v]).dot(dir_[edge]);  // from v, along the edge's direction
-  return ends[0] == v ? along > tol_ : along < -tol_;
+  margin = ends[0] == v ? along - tol_ : -tol_ - along;
+  return margin > 0.0;
 }
 
 // Vertex v holds c's nearest point: c's projection on each of its edges lies at or beyond v.
 template <int D>
-bool MeshShape<D>::vertex_region(std::uint32_t v, const Vec& c, WallFeature<D>& f) const {
+bool MeshShape<D>::vertex_region(std::uint32_t v, const Vec& c, WallFeature<D>& f,
+                                 double& margin) const {
   const auto& s = *surface_;
   for (std::uint32_t k = s.vertex_edge_begin[v]; k < s.vertex_edge_begin[v + 1]; ++k)
-    if (beside_vertex(v, s.vertex_edges[k], c)) return false;
+    if (beside_vertex(v, s.vertex_edges[k], c, margin)) return false;
   const auto before = static_cast<std::uint32_t>(s.size() + s.edges.size());
   f.feature = before + v;
   point_feature(c, x_[v], s.vertex_owner[v], f);
@@ -181,10 +196,21 @@ bool MeshShape<D>::vertex_region(std::uint32_t v, const Vec& c, WallFeature<D>& 
 }
 
 template <int D>
-WallFeature<D> MeshShape<D>::contact(const Vec&, const Vec& c, std::uint32_t e) const {
+WallFeature<D> MeshShape<D>::contact(const Vec& point, const Vec& c, std::uint32_t e) const {
+  double margin = 0.0;
+  return contact(point, c, e, margin);
+}
+
+// Each feature's failing test gives its margin (how far its value is past its border, every
+// value moving by at most |dc| as c moves by dc); the element's margin is their least.
+template <int D>
+WallFeature<D> MeshShape<D>::contact(const Vec&, const Vec& c, std::uint32_t e,
+                                     double& margin) const {
   const auto& s = *surface_;
   const auto& corner = s.elements[e];
   WallFeature<D> f;
+  margin = std::numeric_limits<double>::infinity();
+  double m = 0.0;
   if constexpr (D == 3) {
     const std::array<double, 3> side{edge_function(e, 0, c), edge_function(e, 1, c),
                                      edge_function(e, 2, c)};
@@ -193,24 +219,43 @@ WallFeature<D> MeshShape<D>::contact(const Vec&, const Vec& c, std::uint32_t e) 
       f.dist = std::abs(h);
       f.n = h >= 0.0 ? reach_[e].normal : Vec(-reach_[e].normal);
       f.feature = e;
+      margin = 0.0;
       return f;
     }
+    margin = tol_ - std::min({side[0], side[1], side[2]});
     // Edge k's region needs side k at or below tol_ (edge_region tests the very same number).
     for (std::size_t k = 0; k < 3; ++k) {
       const std::uint32_t edge = s.element_edges[e][k];
-      if (side[k] <= tol_ && s.edge_owner[edge] == e && edge_region(edge, c, f)) return f;
+      if (s.edge_owner[edge] != e) continue;
+      if (side[k] > tol_) {
+        margin = std::min(margin, side[k] - tol_);
+      } else if (edge_region(edge, c, f, m)) {
+        margin = 0.0;
+        return f;
+      } else {
+        margin = std::min(margin, m);
+      }
     }
   } else {
-    if (edge_region(e, c, f)) return f;
+    if (edge_region(e, c, f, m)) {
+      margin = 0.0;
+      return f;
+    }
+    margin = m;
   }
   for (std::size_t k = 0; k < static_cast<std::size_t>(D); ++k) {
     const std::uint32_t v = corner[k];
     if (s.vertex_owner[v] != e) continue;
+    bool beside = false;
     if constexpr (D == 3) {  // first the element's own two edges at v (the same tests)
       const auto& te = s.element_edges[e];
-      if (beside_vertex(v, te[k], c) || beside_vertex(v, te[(k + 2) % 3], c)) continue;
+      beside = beside_vertex(v, te[k], c, m) || beside_vertex(v, te[(k + 2) % 3], c, m);
     }
-    if (vertex_region(v, c, f)) return f;
+    if (!beside && vertex_region(v, c, f, m)) {
+      margin = 0.0;
+      return f;
+    }
+    margin = std::min(margin, m);
   }
   f.active = false;
   return f;

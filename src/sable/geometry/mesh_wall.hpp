@@ -55,6 +55,9 @@ struct MeshShape {
   double element_distance(const Vec& x, std::uint32_t e) const;
   // The feature element e answers for at grain centre x (see the file comment).
   WallFeature<D> contact(const Vec& point, const Vec& x, std::uint32_t e) const;
+  // The same, and where e answers for no feature at x, `margin`: how far x may move (less
+  // round-off) before it may (0 where it answers for one).
+  WallFeature<D> contact(const Vec& point, const Vec& x, std::uint32_t e, double& margin) const;
   // The nearest surface point over all elements (for checks outside the time loop: initial
   // overlaps, the analysis of a snapshot). Unsigned: n points from the surface to x.
   double distance(const Vec& point, const Vec& x, Vec& n) const;
@@ -121,10 +124,11 @@ struct MeshShape {
 
  private:
   double edge_function(std::uint32_t t, int k, const Vec& c) const;
-  bool edge_region(std::uint32_t edge, const Vec& c, WallFeature<D>& f) const;
+  // The region tests; where they fail, `margin` is how far the failing test is past its border.
+  bool edge_region(std::uint32_t edge, const Vec& c, WallFeature<D>& f, double& margin) const;
   // c's projection on `edge`, one of v's, lies beyond v: v's region excludes c.
-  bool beside_vertex(std::uint32_t v, std::uint32_t edge, const Vec& c) const;
-  bool vertex_region(std::uint32_t v, const Vec& c, WallFeature<D>& f) const;
+  bool beside_vertex(std::uint32_t v, std::uint32_t edge, const Vec& c, double& margin) const;
+  bool vertex_region(std::uint32_t v, const Vec& c, WallFeature<D>& f, double& margin) const;
   void point_feature(const Vec& c, const Vec& p, std::uint32_t e, WallFeature<D>& f) const;
   void derive();
 
