@@ -45,6 +45,20 @@ sable::SurfaceMesh<3> grid(int n, double a) {
   return sable::build_surface<3>(std::move(v), std::move(t), "grid");
 }
 
+// Shape 0: a faceted cylinder, 32 sides of 5 R round the x axis (convex edges and vertices);
+// 1: a fine flat grid (flat edges and vertices).
+sable::SurfaceMesh<3> test_surface(int shape) {
+  return shape == 0 ? sable::cylinder_surface(V3::Zero(), V3(1, 0, 0), 5 * kR, 20 * kR, 32, 4, true,
+                                              "cylinder")
+                    : grid(40, 0.5 * kR);
+}
+
+// A place in the box round both shapes (and beyond the cylinder's caps).
+V3 random_place(sable::Rng& rng) {
+  const double x = rng.uniform(-12, 12), y = rng.uniform(-8, 8), z = rng.uniform(-8, 8);
+  return V3(x, y, z) * kR;
+}
+
 // For grains placed anywhere near a faceted cylinder and a fine grid, moved by up to d from
 // where the values were taken: wherever the bound rejects an element, the exact test at the
 // new place rejects it too (the bound is a bound, with the solver's slack). The bound must
@@ -52,16 +66,11 @@ sable::SurfaceMesh<3> grid(int n, double a) {
 TEST(MeshReach, TheBoundRejectsOnlyWhatTheExactTestRejects) {
   for (int shape = 0; shape < 2; ++shape) {
     V3 origin;
-    const sable::MeshShape<3> mesh(shape == 0
-                                       ? sable::cylinder_surface(V3::Zero(), V3(1, 0, 0), 5 * kR,
-                                                                 20 * kR, 32, 4, true, "cylinder")
-                                       : grid(40, 0.5 * kR),
-                                   origin);
+    const sable::MeshShape<3> mesh(test_surface(shape), origin);
     sable::Rng rng(7 + static_cast<std::uint64_t>(shape));
     long rejected = 0, checked = 0;
     for (int trial = 0; trial < 400; ++trial) {
-      const double px = rng.uniform(-12, 12), py = rng.uniform(-8, 8), pz = rng.uniform(-8, 8);
-      const V3 x0 = V3(px, py, pz) * kR;
+      const V3 x0 = random_place(rng);
       const double r = rng.uniform(0.5, 1.5) * kR, d = rng.uniform(0.0, 0.3) * kR;
       const double ux = rng.uniform(-1, 1), uy = rng.uniform(-1, 1), uz = rng.uniform(-1, 1);
       const V3 x = x0 + d * rng.uniform() * V3(ux, uy, uz).normalized();
@@ -83,16 +92,11 @@ TEST(MeshReach, TheBoundRejectsOnlyWhatTheExactTestRejects) {
 TEST(MeshReach, NoFeatureWithinTheMargin) {
   for (int shape = 0; shape < 2; ++shape) {
     V3 origin;
-    const sable::MeshShape<3> mesh(shape == 0
-                                       ? sable::cylinder_surface(V3::Zero(), V3(1, 0, 0), 5 * kR,
-                                                                 20 * kR, 32, 4, true, "cylinder")
-                                       : grid(40, 0.5 * kR),
-                                   origin);
+    const sable::MeshShape<3> mesh(test_surface(shape), origin);
     sable::Rng rng(11 + static_cast<std::uint64_t>(shape));
     long kept = 0;
     for (int trial = 0; trial < 300; ++trial) {
-      const double px = rng.uniform(-12, 12), py = rng.uniform(-8, 8), pz = rng.uniform(-8, 8);
-      const V3 c = V3(px, py, pz) * kR;
+      const V3 c = random_place(rng);
       const double slack = mesh.tolerance() + 1e-13 * (3.0 * c.cwiseAbs().maxCoeff() + kR);
       for (std::uint32_t e = 0; e < mesh.elements(); ++e) {
         double margin = 0.0;
