@@ -64,8 +64,8 @@ void DemSolver<D, Laws>::mesh_contacts(std::uint32_t k0, std::uint32_t k1, const
   constexpr std::uint8_t kTouches = 1, kBegins = 2;
   const Vec x = p.x[i];
   const double r = p.radius[i];
-  const bool still = mesh_still_[wl.wall[k0]] != 0;
-  const double moved = still ? (x - mesh_x_ref_[i]).norm() : 0.0;
+  // The grain's distance from its place at the last remake, or -1 while the mesh moves.
+  const double moved = mesh_still_[wl.wall[k0]] ? (x - mesh_x_ref_[i]).norm() : -1.0;
   // Round-off of the values at either place (sums of products of size |x| + r), and tol_.
   const double slack = mesh.tolerance() + 1e-13 * (3.0 * x.cwiseAbs().maxCoeff() + r);
   for (std::uint32_t k = k0; k < k1; ++k) {
@@ -74,7 +74,7 @@ void DemSolver<D, Laws>::mesh_contacts(std::uint32_t k0, std::uint32_t k1, const
       hand_over_[k] = 0;
       continue;
     }
-    const WallFeature<D> f = mesh_feature(k, wall, x, r, still ? moved : -1.0, slack);
+    const WallFeature<D> f = mesh_feature(k, wall, x, r, moved, slack);
     const bool now = f.active && f.dist < r;
     if (!now && wall_delta_[k] == 0.0) {  // apart, and was
       hand_over_[k] = 0;
@@ -124,12 +124,17 @@ void DemSolver<D, Laws>::update_mesh_reach(bool remade) {
   const auto& nl = world_.neighbors;
   const auto& wl = nl.wall_pairs;
   const auto& walls = world_.walls;
+  // Per mesh, how far it moved since the last remake: 0 keeps its bounds, half the inner skin
+  // makes the next remake due.
   bool due = remade || mesh_reach_.size() != wl.size() || mesh_reach_point_.size() != walls.size();
-  for (std::size_t w = 0; w < walls.size() && !due; ++w)
-    due =
-        walls[w].is_mesh() && 2.0 * walls[w].moved_since(mesh_reach_point_[w], mesh_reach_turn_[w],
-                                                         nl.domain_lo, nl.domain_hi) >=
-                                  mesh_reach_skin_;
+  mesh_still_.assign(walls.size(), 0);
+  for (std::size_t w = 0; w < walls.size() && !due; ++w) {
+    if (!walls[w].is_mesh()) continue;
+    const double shift =
+        walls[w].moved_since(mesh_reach_point_[w], mesh_reach_turn_[w], nl.domain_lo, nl.domain_hi);
+    due = 2.0 * shift >= mesh_reach_skin_;
+    mesh_still_[w] = shift == 0.0 ? 1 : 0;
+  }
   if (due) {
     mesh_reach_skin_ = near_.skin;  // infinite in wet runs: every entry is tested
     mesh_reach_point_.resize(walls.size());
@@ -150,11 +155,8 @@ void DemSolver<D, Laws>::update_mesh_reach(bool remade) {
       mesh_reach_[k] = static_cast<std::uint32_t>(mesh_near_ref_.size());
       mesh_near_ref_.push_back({mesh->reach_values(p.x[i], wl.element[k]), p.x[i], -1.0});
     }
+    mesh_still_.assign(walls.size(), 1);  // every pose is the reference now
   }
-  mesh_still_.resize(walls.size());
-  for (std::size_t w = 0; w < walls.size(); ++w)
-    mesh_still_[w] = walls[w].moved_since(mesh_reach_point_[w], mesh_reach_turn_[w], nl.domain_lo,
-                                          nl.domain_hi) == 0.0;
 }
 
 // The feature mesh entry k's element answers for at grain centre x (inactive where none):

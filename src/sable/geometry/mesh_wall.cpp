@@ -113,13 +113,6 @@ double MeshShape<D>::element_distance(const Vec& x, std::uint32_t e) const {
   }
 }
 
-// From the packed plane and sides may_touch reads: the face test after it finds them cached.
-template <int D>
-double MeshShape<D>::edge_function(std::uint32_t t, int k, const Vec& c) const {
-  const Reach& q = reach_[t];
-  return q.side[static_cast<std::size_t>(k)].dot(c) - q.offset[static_cast<std::size_t>(k)];
-}
-
 // The contact with the surface point p of element e, nearest to c: its normal points from p
 // to c (the element's own normal when c lies on p).
 template <int D>
@@ -148,8 +141,7 @@ bool MeshShape<D>::edge_region(std::uint32_t edge, const Vec& c, WallFeature<D>&
       }
     }
   }
-  const auto ends = D == 3 ? s.edges[edge]
-                           : std::array<std::uint32_t, 2>{s.elements[edge][0], s.elements[edge][1]};
+  const auto ends = ends_of(edge);
   const double alpha = (c - x_[ends[0]]).dot(dir_[edge]);
   const double beta = (c - x_[ends[1]]).dot(dir_[edge]);
   if (!(alpha > tol_)) {
@@ -174,9 +166,7 @@ bool MeshShape<D>::edge_region(std::uint32_t edge, const Vec& c, WallFeature<D>&
 template <int D>
 bool MeshShape<D>::beside_vertex(std::uint32_t v, std::uint32_t edge, const Vec& c,
                                  double& margin) const {
-  const auto& s = *surface_;
-  const auto ends = D == 3 ? s.edges[edge]
-                           : std::array<std::uint32_t, 2>{s.elements[edge][0], s.elements[edge][1]};
+  const auto ends = ends_of(edge);
   const double along = (c - x_[v]).dot(dir_[edge]);  // from v, along the edge's direction
   margin = ends[0] == v ? along - tol_ : -tol_ - along;
   return margin > 0.0;
@@ -215,7 +205,7 @@ WallFeature<D> MeshShape<D>::contact(const Vec&, const Vec& c, std::uint32_t e,
     const std::array<double, 3> side{edge_function(e, 0, c), edge_function(e, 1, c),
                                      edge_function(e, 2, c)};
     if (side[0] > tol_ && side[1] > tol_ && side[2] > tol_) {
-      const double h = reach_[e].normal.dot(c) - reach_[e].height;
+      const double h = height(e, c);
       f.dist = std::abs(h);
       f.n = h >= 0.0 ? reach_[e].normal : Vec(-reach_[e].normal);
       f.feature = e;

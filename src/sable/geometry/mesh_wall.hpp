@@ -80,14 +80,12 @@ struct MeshShape {
   // fine flat mesh that keeps the one to six elements under a grain's contact cap; `tol_`
   // keeps it on the safe side of round-off.
   bool may_touch(const Vec& x, double r, std::uint32_t e) const {
-    const Reach& q = reach_[e];
-    const double h = q.normal.dot(x) - q.height;
+    const double h = height(e, x);
     const double s2 = r * r - h * h;
     if (!(s2 > 0.0)) return false;
     const double s = -std::sqrt(s2) - tol_;
     for (int k = 0; k < D; ++k)
-      if (q.side[static_cast<std::size_t>(k)].dot(x) - q.offset[static_cast<std::size_t>(k)] < s)
-        return false;
+      if (edge_function(e, k, x) < s) return false;
     return true;
   }
 
@@ -96,11 +94,9 @@ struct MeshShape {
   // (may_touch_within): the plane and the sides are unit-normal, so each value moves by at
   // most d. `slack` covers the round-off of both evaluations and tol_.
   std::array<double, D + 1> reach_values(const Vec& x, std::uint32_t e) const {
-    const Reach& q = reach_[e];
     std::array<double, D + 1> v;
-    v[0] = q.normal.dot(x) - q.height;
-    for (std::size_t k = 0; k < static_cast<std::size_t>(D); ++k)
-      v[k + 1] = q.side[k].dot(x) - q.offset[k];
+    v[0] = height(e, x);
+    for (int k = 0; k < D; ++k) v[static_cast<std::size_t>(k) + 1] = edge_function(e, k, x);
     return v;
   }
   // False only where may_touch(x, r, e) is false for every x within d of the place the
@@ -123,7 +119,25 @@ struct MeshShape {
   const Vec& element_normal(std::uint32_t e) const { return reach_[e].normal; }
 
  private:
-  double edge_function(std::uint32_t t, int k, const Vec& c) const;
+  // From the packed record (Reach): c's signed height above element t's plane, and its side
+  // function k (>= 0 on the element's side of its edge or end k). Every test of an element's
+  // plane or sides goes through these two, so the bound, the cap test and the regions all see
+  // the same numbers.
+  double height(std::uint32_t t, const Vec& c) const {
+    return reach_[t].normal.dot(c) - reach_[t].height;
+  }
+  double edge_function(std::uint32_t t, int k, const Vec& c) const {
+    const Reach& q = reach_[t];
+    return q.side[static_cast<std::size_t>(k)].dot(c) - q.offset[static_cast<std::size_t>(k)];
+  }
+  // The two vertices of edge `edge` (3D) or of segment `edge` (2D).
+  std::array<std::uint32_t, 2> ends_of(std::uint32_t edge) const {
+    if constexpr (D == 3) {
+      return surface_->edges[edge];
+    } else {
+      return {surface_->elements[edge][0], surface_->elements[edge][1]};
+    }
+  }
   // The region tests; where they fail, `margin` is how far the failing test is past its border.
   bool edge_region(std::uint32_t edge, const Vec& c, WallFeature<D>& f, double& margin) const;
   // c's projection on `edge`, one of v's, lies beyond v: v's region excludes c.
