@@ -10,6 +10,7 @@
 
 #include "sable/cd/cd_solver.hpp"
 #include "sable/geometry/surface_mesh.hpp"
+#include "sable/world/element_forces.hpp"
 
 namespace {
 
@@ -110,7 +111,7 @@ TEST(CdMesh, FlatMeshOverSharedEdgeActsLikePlane) {
   for (std::size_t k = 0; k < wl.size(); ++k) loaded += wl.force[k] != Vec3::Zero() ? 1 : 0;
   EXPECT_EQ(loaded, 1u);
   // The mesh's force per element adds up to its total.
-  const auto& ef = mesh_world.walls[0].element_force;
+  const auto ef = sable::element_forces(mesh_world, 0);
   ASSERT_EQ(ef.size(), 2u);
   EXPECT_LT((ef[0] + ef[1] - mesh_world.walls[0].force).norm(), 1e-15 * mg);
 }
@@ -138,7 +139,7 @@ TEST(CdMesh, ConcaveCornerTwoContactsBalanceTheWeight) {
     EXPECT_LT((w.particles.x[0] - x0).norm(), 1e-12 * kR);
     EXPECT_LT(w.particles.v[0].norm(), 1e-12);
     if (mu == 0.0) {
-      const auto& ef = w.walls[0].element_force;
+      const auto ef = sable::element_forces(w, 0);
       EXPECT_NEAR(-(ef[0] + ef[1]).z(), m * kG * std::cos(tilt), 1e-9 * m * kG);
       EXPECT_NEAR(-(ef[2] + ef[3]).x(), m * kG * std::sin(tilt), 1e-9 * m * kG);
     }

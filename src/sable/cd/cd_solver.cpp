@@ -408,10 +408,10 @@ double CdSolver<D>::wall_speed(std::uint32_t w, const Vec& x, double radius) con
   return wall.velocity_at(x).norm() + std::sqrt(Space<D>::rot_norm2(wall.spin)) * radius;
 }
 
-// Forces = impulses / h, written where DEM writes its forces, so outputs are shared. Each
-// wall's force, its torque about its pivot (the force -f at the contact point x_i + arm_i,
-// x_i - R_i n, and the reaction to each rolling couple) and a mesh's force
-// per element, as the DEM's total_wall_forces().
+// Forces = impulses / h, written where DEM writes its forces, so outputs are shared (a mesh's
+// force per element among them: world/element_forces.hpp). Each wall's force and its torque
+// about its pivot (the force -f at the contact point x_i + arm_i, x_i - R_i n, and the
+// reaction to each rolling couple), as the DEM's total_wall_forces().
 template <int D>
 void CdSolver<D>::store_impulses() {
   using S = Space<D>;
@@ -424,7 +424,6 @@ void CdSolver<D>::store_impulses() {
   for (auto& wall : world_.walls) {
     wall.force.setZero();
     wall.torque = S::zero_rot();
-    wall.element_force.assign(wall.is_mesh() ? wall.elements() : 0, S::zero());
   }
   diag_.touching = 0;
   diag_.max_overlap_ratio = 0.0;
@@ -439,7 +438,6 @@ void CdSolver<D>::store_impulses() {
       nl.wall_pairs.force[c_.source[a]] = f;
       wall.force -= f;
       wall.torque -= S::moment(Vec(p.x[i] + c_.arm_i[a] - wall.pivot), f);
-      if (!wall.element_force.empty()) wall.element_force[nl.wall_pairs.element[c_.source[a]]] -= f;
     } else {
       nl.pairs.force[c_.source[a]] = f;
       p.f[j] -= f;

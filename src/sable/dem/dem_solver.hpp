@@ -100,6 +100,7 @@ class DemSolver final : public Solver {
   void fit_scratch_to_lists();
   void update_near_list(const Displacements* moved);
   void update_mesh_reach(bool remade);
+  void skip_far_entries();
   // pair_pass: each grain's rolling factor, then the contact law picked for the pair forces
   // (dry: summed and closed per grain as the pass goes; wet: stored per contact) and, after
   // the bridges' liquid is settled, for the wet runs' closing loop (dem/grain_loops_impl.hpp).
@@ -172,6 +173,16 @@ class DemSolver final : public Solver {
   // Each near entry's record also keeps its last inactive answer: where it was found and
   // its margin (-1: none), see mesh_feature().
   static constexpr std::uint32_t kFar = ~std::uint32_t{0};
+  // With meshes (made with mesh_reach_): per wall entry k, the first entry at or after k
+  // that the step visits, all but the far mesh entries (wall_from_[size] = size); empty
+  // without meshes. A fine mesh has some 30 entries per grain beside it and 1 to 3 near.
+  std::vector<std::uint32_t> wall_from_;
+  struct EntryWalk {
+    const std::uint32_t* from;  // null: every entry
+    std::uint32_t first(std::uint32_t k) const { return from ? from[k] : k; }
+    std::uint32_t next(std::uint32_t k) const { return from ? from[k + 1] : k + 1; }
+  };
+  EntryWalk entry_walk() const { return {wall_from_.empty() ? nullptr : wall_from_.data()}; }
   struct MeshNearRef {
     std::array<double, D + 1> values;
     typename Space<D>::Vec x;
@@ -184,10 +195,6 @@ class DemSolver final : public Solver {
   std::vector<typename Space<D>::Orientation> mesh_reach_turn_;
   std::vector<std::uint8_t> mesh_still_;
   double mesh_reach_skin_ = 0.0;
-  // The (wall, element) pairs whose element_force the last total_wall_forces loaded, cleared
-  // by the next; valid once a call has cleared every element (not before initialize()).
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> forced_elements_;
-  bool element_forces_tracked_ = false;
   // The blocks of grains of the step's loops, one per thread: each parallel loop has its own,
   // so that its threads finish together (dem/grain_split.hpp). The pair pass's, and the grains
   // it leaves to the gather, are made again after each near-list remake (update_pair_split()).

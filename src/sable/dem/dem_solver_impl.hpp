@@ -35,8 +35,7 @@ template <int D, class Laws>
 void DemSolver<D, Laws>::initialize() {
   // The lists carry rolling springs exactly when the law has rolling resistance.
   world_.neighbors.rolling = with_rolling();
-  reorder_.build_lists(world_);     // sorting the grains first when due (world/reorder.hpp)
-  element_forces_tracked_ = false;  // the world's element forces may come from elsewhere
+  reorder_.build_lists(world_);  // sorting the grains first when due (world/reorder.hpp)
   compute_forces();
 }
 

@@ -75,6 +75,7 @@ typename DemSolver<D, Laws>::GrainPass DemSolver<D, Laws>::make_grain_pass(doubl
           near_.second_begin.data(),
           near_.second_pairs.data(),
           nl.wall_begin.data(),
+          entry_walk(),
           nl.pairs.force.data(),
           nl.wall_pairs.force.data(),
           pair_moment_.data(),

@@ -25,17 +25,19 @@ void DemSolver<D, Laws>::wall_contacts(std::uint32_t g0, std::uint32_t g1, doubl
   const auto& wl = world_.neighbors.wall_pairs;
   const std::uint32_t* const wb = world_.neighbors.wall_begin.data();
   const std::uint32_t end = wb[g1];
-  for (std::uint32_t k = wb[g0]; k < end; ++k) {
+  const EntryWalk walk = entry_walk();
+  for (std::uint32_t k = walk.first(wb[g0]); k < end;) {
     const Wall<D>& wall = world_.walls[wl.wall[k]];
     if (!wall.is_mesh()) {
       const WallFeature<D> f = wall.contact(world_.particles.x[wl.i[k]], 0);
       wall_contact<Normal>(k, wall, f, max_ratio, touching);
+      k = walk.next(k);
       continue;
     }
-    std::uint32_t k1 = k + 1;
-    while (k1 < end && wl.i[k1] == wl.i[k] && wl.wall[k1] == wl.wall[k]) ++k1;
+    std::uint32_t k1 = walk.next(k);
+    while (k1 < end && wl.i[k1] == wl.i[k] && wl.wall[k1] == wl.wall[k]) k1 = walk.next(k1);
     mesh_contacts<Normal>(k, k1, wall, max_ratio, touching);
-    k = k1 - 1;
+    k = k1;
   }
 }
 
@@ -68,12 +70,8 @@ void DemSolver<D, Laws>::mesh_contacts(std::uint32_t k0, std::uint32_t k1, const
   const double moved = mesh_still_[wl.wall[k0]] ? (x - mesh_x_ref_[i]).norm() : -1.0;
   // Round-off of the values at either place (sums of products of size |x| + r), and tol_.
   const double slack = mesh.tolerance() + 1e-13 * (3.0 * x.cwiseAbs().maxCoeff() + r);
-  for (std::uint32_t k = k0; k < k1; ++k) {
-    // The common case: out of reach since the last remake, and was.
-    if (mesh_reach_[k] == kFar && wall_delta_[k] == 0.0) {
-      hand_over_[k] = 0;
-      continue;
-    }
+  const EntryWalk walk = entry_walk();
+  for (std::uint32_t k = k0; k < k1; k = walk.next(k)) {
     const WallFeature<D> f = mesh_feature(k, wall, x, r, moved, slack);
     const bool now = f.active && f.dist < r;
     if (!now && wall_delta_[k] == 0.0) {  // apart, and was
@@ -101,7 +99,7 @@ void DemSolver<D, Laws>::mesh_contacts(std::uint32_t k0, std::uint32_t k1, const
   }
   WallFeature<D> none;
   none.active = false;
-  for (std::uint32_t k = k0; k < k1; ++k) {
+  for (std::uint32_t k = k0; k < k1; k = walk.next(k)) {
     const std::uint8_t flags = hand_over_[k];
     if (!(flags & kTouches)) {
       if (wall_delta_[k] != 0.0) wall_contact<Normal>(k, wall, none, max_ratio, touching);
@@ -156,6 +154,41 @@ void DemSolver<D, Laws>::update_mesh_reach(bool remade) {
       mesh_near_ref_.push_back({mesh->reach_values(p.x[i], wl.element[k]), p.x[i], -1.0});
     }
     mesh_still_.assign(walls.size(), 1);  // every pose is the reference now
+    skip_far_entries();
+  }
+}
+
+// wall_from_ for the entries update_mesh_reach() just sorted: the step's loops visit every
+// plane, box and cylinder entry and every mesh entry within reach, and skip the far ones.
+// A far entry cannot touch before the next remake; the apart state it is left in is the one
+// mesh_contacts would have given it (an overlap unknown since a rebuild, -1, with no force
+// and no history: cleared), so the bits are those of visiting it. A far entry that still
+// holds a contact's force or history (it cannot, having been within r a step ago, unless the
+// skin is below a step's motion) is visited, and its contact ends there as it would.
+template <int D, class Laws>
+void DemSolver<D, Laws>::skip_far_entries() {
+  using S = Space<D>;
+  auto& wl = world_.neighbors.wall_pairs;
+  const auto& walls = world_.walls;
+  const bool rolling = with_rolling();
+  const auto n = static_cast<std::uint32_t>(wl.size());
+  assign_ahead(wall_from_, n + 1, n);
+  std::uint32_t next = n;
+  for (std::uint32_t k = n; k-- > 0;) {
+    const bool far = mesh_reach_[k] == kFar && walls[wl.wall[k]].is_mesh() &&
+                     wall_delta_[k] <= 0.0 && wl.force[k] == S::zero() && wl.shear[k] == S::zero();
+    if (far && wall_delta_[k] != 0.0) {  // cleared as mesh_contacts would have
+      wl.force[k].setZero();
+      wl.shear[k].setZero();
+      wall_moment_[k] = S::zero_rot();
+      wall_delta_[k] = 0.0;
+      if (rolling) {
+        wl.roll[k] = S::zero_rot();
+        wall_roll_[k] = S::zero_rot();
+      }
+    }
+    if (!far) next = k;
+    wall_from_[k] = next;
   }
 }
 
@@ -236,10 +269,11 @@ void DemSolver<D, Laws>::wall_contact(std::size_t k, const Wall<D>& wall, const 
 }
 
 // Stage total_wall_forces (printed "closing"): each wall's total force and torque about its
-// pivot, and a mesh's force per element, from its contacts' forces in list order, once every
-// contact's force is final. Contact point x_c = x_i - (R_i - delta/2) n, so the torque of
-// -F there is -(x_i - pivot) x F + (R_i - delta/2) n x F; with rolling resistance the wall
-// also takes minus each rolling couple (as contact dynamics counts it).
+// pivot, from its contacts' forces in list order, once every contact's force is final (a
+// mesh's force per element is derived from them when written: world/element_forces.hpp).
+// Contact point x_c = x_i - (R_i - delta/2) n, so the torque of -F there is
+// -(x_i - pivot) x F + (R_i - delta/2) n x F; with rolling resistance the wall also takes
+// minus each rolling couple (as contact dynamics counts it).
 template <int D, class Laws>
 void DemSolver<D, Laws>::total_wall_forces() {
   using S = Space<D>;
@@ -249,21 +283,11 @@ void DemSolver<D, Laws>::total_wall_forces() {
   for (auto& wall : world_.walls) {
     wall.force.setZero();
     wall.torque = S::zero_rot();
-    if (!wall.is_mesh()) {
-      wall.element_force.clear();
-    } else if (!element_forces_tracked_ || wall.element_force.size() != wall.elements()) {
-      wall.element_force.assign(wall.elements(), S::zero());
-      forced_elements_.clear();
-    }
   }
-  // A fine mesh has far more elements than touching ones: only those the last call loaded
-  // are cleared.
-  for (const auto& [w, e] : forced_elements_) world_.walls[w].element_force[e] = S::zero();
-  forced_elements_.clear();
-  element_forces_tracked_ = true;
-  for (std::size_t k = 0; k < wl.size(); ++k) {
-    // An entry apart holds no force (forget_if_ended clears it as its overlap turns 0), and
-    // most of a fine mesh's entries are apart: they cost this one load.
+  const EntryWalk walk = entry_walk();
+  const auto n = static_cast<std::uint32_t>(wl.size());
+  for (std::uint32_t k = walk.first(0); k < n; k = walk.next(k)) {
+    // An entry apart holds no force (forget_if_ended clears it as its overlap turns 0).
     if (wall_delta_[k] == 0.0) continue;
     Wall<D>& wall = world_.walls[wl.wall[k]];
     const auto& f = wl.force[k];
@@ -273,10 +297,6 @@ void DemSolver<D, Laws>::total_wall_forces() {
     wall.torque +=
         (p.radius[i] - 0.5 * wall_delta_[k]) * wall_moment_[k] - S::moment(p.x[i] - wall.pivot, f);
     if (rolling) wall.torque -= wall_roll_[k];  // the reaction to the grain's rolling couple
-    if (!wall.element_force.empty()) {
-      wall.element_force[wl.element[k]] -= f;
-      forced_elements_.emplace_back(wl.wall[k], wl.element[k]);
-    }
   }
 }
 

@@ -49,10 +49,9 @@ struct Wall {
   Vec pivot = Vec::Zero();
   bool pivoted = false;
   // Over the last force evaluation, force and torque (about pivot) exerted BY the grains ON
-  // the wall; a mesh also keeps each element's force (outputs).
+  // the wall (a mesh's force per element: world/element_forces.hpp).
   Vec force = Vec::Zero();
   Rot torque = S::zero_rot();
-  std::vector<Vec> element_force;
 
   // Shorthands for code that builds walls by hand (tests, benchmarks).
   void set_plane(const Vec& unit_normal) { shape = PlaneShape<D>(unit_normal); }

@@ -14,6 +14,7 @@
 
 #include "sable/core/error.hpp"
 #include "sable/io/atomic_file.hpp"
+#include "sable/world/element_forces.hpp"
 
 namespace sable {
 
@@ -431,13 +432,15 @@ void write_walls_vtp(const World<D>& world, const std::string& path) {
   // Per cell the wall's total force, and the force on the cell itself: a mesh element's own
   // (the grains' contacts kept in its list entries), a plane's or a cylinder's whole force.
   std::vector<double> force, cell_force;
+  std::vector<std::vector<typename S::Vec>> per_element(world.walls.size());
+  for (std::size_t w = 0; w < world.walls.size(); ++w) per_element[w] = element_forces(world, w);
   for (std::size_t c = 0; c < mesh.wall.size(); ++c) {
-    const Wall<D>& wall = world.walls[static_cast<std::size_t>(mesh.wall[c])];
-    append3(force, S::to_array(wall.force));
+    const auto w = static_cast<std::size_t>(mesh.wall[c]);
+    append3(force, S::to_array(world.walls[w].force));
     const auto e = static_cast<std::size_t>(mesh.element[c]);
-    append3(cell_force, S::to_array(mesh.element[c] >= 0 && e < wall.element_force.size()
-                                        ? wall.element_force[e]
-                                        : (mesh.element[c] >= 0 ? S::zero() : wall.force)));
+    append3(cell_force, S::to_array(mesh.element[c] < 0         ? world.walls[w].force
+                                    : e < per_element[w].size() ? per_element[w][e]
+                                                                : S::zero()));
   }
   const std::size_t ncells = mesh.cells.size();
   write_pieces_atomic(path, [&](const PutText& put) {
