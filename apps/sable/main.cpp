@@ -163,7 +163,7 @@ int cmd_fc3d(const std::string& file, const Fc3dOptions& o) {
 std::string analyses_help() {
   std::string s = "analyses to run, comma-separated:";
   for (const char* a : sable::kAnalyses) s += std::string(" ") + a;
-  return s + " (default: all)";
+  return s + " (default: all; drag with --drag-wall, load-share with --level)";
 }
 
 // `sable analyze`: options straight into AnalyzeOptions (validated by run_analysis).
@@ -186,7 +186,22 @@ CLI::App* add_analyze(CLI::App& app, sable::AnalyzeOptions& a) {
   an->add_option("--kernel", a.kernel, "sphere | gaussian | lucy (default sphere)");
   an->add_option("--width", a.width, "kernel radius/width in m (default: 2 mean diameters)");
   an->add_option("--frame", a.frame, "rotating frame px,py,pz:ux,uy,uz (point and axis)");
-  an->add_option("--omega", a.omega, "angular velocity of the rotating frame (rad/s)");
+  an->add_option("--omega", a.omega,
+                 "angular velocity of the rotating frame, and the turning wall's for drag "
+                 "(rad/s)");
+  an->add_option("--series", a.series,
+                 "drag: the run's series.csv (default: beside the snapshots/ folder)");
+  an->add_option("--drag-wall", a.drag_wall, "drag: the turning wall (runs drag with no --only)");
+  an->add_option("--drag-axis", a.drag_axis,
+                 "drag: the turning axis ux,uy,uz (default: --frame's axis, else 0,0,1)");
+  an->add_option("--drag-length", a.drag_length,
+                 "drag: the body's length L in F = 4 M / L (m; default 0: torque only)");
+  an->add_option("--turn-start", a.turn_start,
+                 "drag: the time the wall began to turn (s; default: the series' first time)");
+  an->add_option("--stationary-from", a.stationary_from,
+                 "drag: the stationary window starts this many turns in (default 1)");
+  an->add_option("--level", a.level,
+                 "load-share: height of the cut along -gravity (m; runs it with no --only)");
   an->add_flag("--plot", a.plot, "draw PNG figures next to the tables (python3-matplotlib)");
   return an;
 }

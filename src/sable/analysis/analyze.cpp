@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 
 #include "sable/analysis/analyze_parts.hpp"
+#include "sable/analysis/drag.hpp"
 #include "sable/analysis/frame.hpp"
 #include "sable/core/error.hpp"
 
@@ -81,7 +82,8 @@ std::optional<Region<D>> parse_region(const std::string& text) {
 
 std::optional<RotatingFrame> parse_frame(const AnalyzeOptions& opt) {
   if (opt.frame.empty()) {
-    if (opt.omega != 0.0) throw InputError("option --omega needs --frame (the axis)");
+    if (opt.omega != 0.0 && !analysis_wanted(opt, "drag"))
+      throw InputError("option --omega needs --frame (the axis) or the drag analysis");
     return std::nullopt;
   }
   const auto parts = split_colon(opt.frame);
@@ -136,6 +138,67 @@ void check_options(const AnalyzeOptions& opt) {
   }
 }
 
+// The drag analysis's options, checked, or nothing when it does not run. The series defaults
+// to the run's own: snapshots sit in RUN/snapshots/, the series in RUN/series.csv.
+std::optional<DragOptions> drag_options(const AnalyzeOptions& opt) {
+  if (!analysis_wanted(opt, "drag")) return std::nullopt;
+  if (opt.drag_wall.empty())
+    throw InputError("the drag analysis needs --drag-wall (the name of the turning wall)");
+  if (!(opt.omega > 0.0) || !std::isfinite(opt.omega))
+    throw InputError(fmt::format(
+        "option --omega: the drag analysis needs the wall's turning rate > 0 rad/s, got {}",
+        opt.omega));
+  if (!(opt.drag_length >= 0.0) || !std::isfinite(opt.drag_length))
+    throw InputError(fmt::format(
+        "option --drag-length: {} must be >= 0 m (0: report the torque only)", opt.drag_length));
+  if (!(opt.stationary_from >= 0.0) || !std::isfinite(opt.stationary_from))
+    throw InputError(
+        fmt::format("option --stationary-from: {} must be >= 0 turns", opt.stationary_from));
+  DragOptions d;
+  d.wall = opt.drag_wall;
+  d.omega = opt.omega;
+  d.length = opt.drag_length;
+  d.stationary_from = opt.stationary_from;
+  if (!std::isnan(opt.turn_start)) {
+    if (!std::isfinite(opt.turn_start))
+      throw InputError(fmt::format("option --turn-start: {} is not a time", opt.turn_start));
+    d.turn_start = opt.turn_start;
+  }
+  d.series =
+      !opt.series.empty()
+          ? opt.series
+          : (fs::path(opt.snapshots.front()).parent_path().parent_path() / "series.csv").string();
+  std::string axis_text = opt.drag_axis, option = "--drag-axis";
+  if (axis_text.empty() && !opt.frame.empty()) {
+    const auto parts = split_colon(opt.frame);
+    if (parts.size() == 2) axis_text = parts[1];
+    option = "--frame";
+  }
+  if (!axis_text.empty()) {
+    const std::vector<double> u = parse_numbers(axis_text, option);
+    if (u.size() != 3 || (u[0] == 0.0 && u[1] == 0.0 && u[2] == 0.0))
+      throw InputError(
+          fmt::format("option {}: '{}' is not a non-zero axis ux,uy,uz", option, clip(axis_text)));
+    d.axis = {u[0], u[1], u[2]};
+  }
+  return d;
+}
+
+void check_load_share(const AnalyzeOptions& opt) {
+  if (!analysis_wanted(opt, "load-share")) return;
+  if (std::isnan(opt.level))
+    throw InputError("the load-share analysis needs --level Z (m, the height of the cut)");
+  if (!std::isfinite(opt.level))
+    throw InputError(fmt::format("option --level: {} is not a height", opt.level));
+}
+
+// Whether any analysis that reads the snapshots runs (drag reads the series only).
+bool needs_samples(const AnalyzeOptions& opt) {
+  for (const char* a : kAnalyses)
+    if (std::string(a) != "drag" && analysis_wanted(opt, a)) return true;
+  return false;
+}
+
 std::string default_out_dir(const AnalyzeOptions& opt) {
   if (!opt.out_dir.empty()) return opt.out_dir;
   return (fs::path(opt.snapshots.front()).parent_path() / "analysis").string();
@@ -146,9 +209,15 @@ std::string analyze(const AnalyzeOptions& opt, const std::string& out_dir,
                     const SampleLoaders& loaders) {
   const std::optional<Region<D>> region = parse_region<D>(opt.region);
   const std::optional<RotatingFrame> frame = parse_frame(opt);
+  // The series is read before any snapshot, so that its errors come before any output.
+  const std::optional<DragOptions> drag = drag_options(opt);
+  std::optional<DragResult> dragged;
+  if (drag)
+    dragged = drag_per_half_turn(read_torque_series(drag->series, drag->wall, drag->axis), *drag);
   const ResultWriter out(out_dir, opt.snapshots);
   AnalysisParts<D> parts(opt, out, region);
-  for (std::size_t k = 0; k < opt.snapshots.size(); ++k) {
+  if (drag) parts.set_drag(*drag, *dragged);
+  for (std::size_t k = 0; k < opt.snapshots.size() && needs_samples(opt); ++k) {
     if (opt.log)
       *opt.log << fmt::format("[{}/{}] {}\n", k + 1, opt.snapshots.size(), opt.snapshots[k]);
     Sample<D> s = loaders.load<D>(opt.snapshots[k]);
@@ -175,8 +244,17 @@ void plot(const AnalyzeOptions& opt, const std::string& out_dir) {
 
 }  // namespace
 
+bool analysis_wanted(const AnalyzeOptions& opt, const std::string& name) {
+  if (!opt.only.empty()) return std::find(opt.only.begin(), opt.only.end(), name) != opt.only.end();
+  if (name == "drag") return !opt.drag_wall.empty();
+  if (name == "load-share") return !std::isnan(opt.level);
+  return true;
+}
+
 std::string run_analysis(const AnalyzeOptions& opt, const SampleLoaders& loaders) {
   check_options(opt);
+  check_load_share(opt);
+  drag_options(opt);  // its option errors before the snapshots are read
   const int dim = snapshot_dimension(opt.snapshots.front());
   for (const auto& s : opt.snapshots)
     if (snapshot_dimension(s) != dim)

@@ -13,12 +13,16 @@
 //   percolation.csv              per-grain phase and cluster label (last snapshot)
 //   fields.vti / fields_line.csv coarse-grained fields (grid / line)
 //   series.csv                   per-snapshot scalars when several snapshots are given
+//   drag.csv                     a turning wall's torque and drag per half-turn (the run's
+//                                series.csv; drag.hpp)
+//   load_share.csv               the weight above a level and who carries it (load_share.hpp)
 // With several snapshots, statistics are pooled over all of their contacts, tensors, wall
 // profiles and fields are averaged (time averages), and per-grain outputs are the last
 // snapshot's. With --plot, scripts/plot_analysis.py draws a PNG next to each table.
 #pragma once
 
 #include <iosfwd>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -43,15 +47,29 @@ struct AnalyzeOptions {
   std::string kernel = "sphere";   // sphere | gaussian | lucy
   double width = 0.0;              // kernel radius / width (m); 0: two mean diameters
   std::string frame;               // rotating frame "px,py,pz:ux,uy,uz"; empty: lab frame
-  double omega = 0.0;              // its angular velocity (rad/s)
+  double omega = 0.0;              // the frame's angular velocity, and drag's turning rate (rad/s)
+  // drag (drag.hpp): runs when named in `only`, or with `only` empty when drag_wall is given.
+  std::string series;        // the run's series.csv; empty: beside the snapshots/ folder
+  std::string drag_wall;     // the turning wall
+  std::string drag_axis;     // "ux,uy,uz"; empty: the frame's axis, else z
+  double drag_length = 0.0;  // L in F = 4 M / L (m); 0: torque only
+  double turn_start = std::numeric_limits<double>::quiet_NaN();  // s; NaN: the series' start
+  double stationary_from = 1.0;                                  // turns after turn_start
+  // load-share (load_share.hpp): runs when named in `only`, or with `only` empty when the
+  // level is given.
+  double level = std::numeric_limits<double>::quiet_NaN();  // m along -gravity
   bool plot = false;
   std::string plot_script;  // empty: scripts/plot_analysis.py beside the executable's tree
   std::ostream* log = nullptr;
 };
 
 inline constexpr const char* kAnalyses[] = {
-    "forces", "coordination", "fabric",      "polarization", "particle-stress",
-    "stress", "walls",        "percolation", "fields",       "janssen"};
+    "forces",      "coordination", "fabric",  "polarization", "particle-stress", "stress", "walls",
+    "percolation", "fields",       "janssen", "drag",         "load-share"};
+
+// Whether `name` runs: named in opt.only, or opt.only empty and (for drag and load-share,
+// which need an option of their own) that option given.
+bool analysis_wanted(const AnalyzeOptions& opt, const std::string& name);
 
 // Runs the analyses; returns the output directory. Throws InputError for bad options or
 // snapshots (naming the file or the option), before anything is written where possible.

@@ -329,6 +329,21 @@ void AnalysisParts<D>::finish_per_grain() {
     });
 }
 
+template <int D>
+void AnalysisParts<D>::finish_drag() {
+  if (!drag_) return;
+  const auto& [opt, result] = *drag_;
+  out_.write("drag.csv", drag_table(result, opt));
+  summary_.add("drag", drag_summary(result, opt));
+}
+
+template <int D>
+void AnalysisParts<D>::finish_load_share() {
+  if (load_shares_.empty()) return;
+  out_.write("load_share.csv", load_share_table(load_shares_));
+  summary_.add("load_share", load_share_summary(load_shares_));
+}
+
 #define SABLE_FINISH(D)                                \
   template void AnalysisParts<D>::finish_forces();     \
   template void AnalysisParts<D>::finish_stress();     \
@@ -336,7 +351,9 @@ void AnalysisParts<D>::finish_per_grain() {
   template void AnalysisParts<D>::finish_wall_loads(); \
   template void AnalysisParts<D>::finish_fields();     \
   template void AnalysisParts<D>::finish_per_grain();  \
-  template void AnalysisParts<D>::finish_janssen();
+  template void AnalysisParts<D>::finish_janssen();    \
+  template void AnalysisParts<D>::finish_drag();       \
+  template void AnalysisParts<D>::finish_load_share();
 SABLE_FINISH(2)
 SABLE_FINISH(3)
 #undef SABLE_FINISH

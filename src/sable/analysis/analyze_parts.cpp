@@ -167,6 +167,7 @@ void AnalysisParts<D>::add(const Sample<D>& s) {
   add_walls(s);
   add_wall_loads(s, row);
   add_fields(s);
+  if (wants("load-share")) load_shares_.push_back(load_share(s, opt_.level));
   series_.push_back(row);
   ++samples_;
   last_ = s;
@@ -312,6 +313,8 @@ void AnalysisParts<D>::finish() {
   finish_fields();
   finish_per_grain();
   finish_janssen();
+  finish_drag();
+  finish_load_share();
   if (samples_ > 1) {
     Table t;
     for (std::size_t c = 0; c < series_.front().size(); ++c) {

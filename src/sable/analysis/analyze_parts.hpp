@@ -8,10 +8,13 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sable/analysis/analyze.hpp"
 #include "sable/analysis/coarse_grain.hpp"
+#include "sable/analysis/drag.hpp"
+#include "sable/analysis/load_share.hpp"
 #include "sable/analysis/report.hpp"
 #include "sable/analysis/sample.hpp"
 #include "sable/analysis/stress.hpp"
@@ -25,13 +28,12 @@ class AnalysisParts {
   AnalysisParts(const AnalyzeOptions& opt, const ResultWriter& out,
                 std::optional<Region<D>> region);
   void add(const Sample<D>& s);
+  // The drag analysis reads the run's series, not the samples: its result is handed in.
+  void set_drag(const DragOptions& opt, const DragResult& result) { drag_.emplace(opt, result); }
   void finish();
 
  private:
-  bool wants(const char* name) const {
-    return opt_.only.empty() ||
-           std::find(opt_.only.begin(), opt_.only.end(), name) != opt_.only.end();
-  }
+  bool wants(const char* name) const { return analysis_wanted(opt_, name); }
   Region<D> region_of(const Sample<D>& s) const;
   void add_contacts(const Sample<D>& s);
   void add_stress(const Sample<D>& s, std::vector<double>& row);
@@ -46,6 +48,8 @@ class AnalysisParts {
   void finish_fields();
   void finish_per_grain();
   void finish_janssen();
+  void finish_drag();
+  void finish_load_share();
 
   const AnalyzeOptions& opt_;
   const ResultWriter& out_;
@@ -77,6 +81,8 @@ class AnalysisParts {
   std::optional<FieldSpec<D>> field_spec_;
   std::optional<Fields<D>> fields_;
   std::optional<Sample<D>> last_;
+  std::optional<std::pair<DragOptions, DragResult>> drag_;
+  std::vector<LoadShare> load_shares_;  // one per sample
 };
 
 // Pressure PDF: p / p_ref over a symmetric range, p_ref the mean |p| of the non-zero ones.
