@@ -124,8 +124,8 @@ def main() -> int:
     }
     inertial_arg = f" --inertial {a.inertial:g}" if a.inertial else ""
     rate_rule = (f"set by --inertial {a.inertial:g}" if a.inertial else
-                 "the paper's 0.5 rev/s at L = 20 d times sqrt(L / 20 d), which keeps the paper's "
-                 "inertial number at each h / L")
+                 "the paper's 0.5 rev/s at L = 20 d times sqrt(L / 20 d),\n# which keeps the "
+                 "paper's inertial number at each h / L")
     header = f"""\
 # The rotating cylinder of Guillard, Forterre & Pouliquen (2015), written by
 # examples/rotating-cylinder/make_scenario.py --length-d {a.length_d:g} --depth {a.depth:g} \\
@@ -149,7 +149,8 @@ def main() -> int:
 # places the cylinder and pours on: a lattice cannot be added to in mid-run, and pouring the
 # whole bed around the placed cylinder gives the same packing above and around it).
 # Turning: {omega:.5g} rad/s ({omega / (2 * math.pi):.4g} rev/s) about the vertical axis through
-# the container's axis: {rate_rule}; inertial number omega d / sqrt(phi g h) = {inertial:.3g}.
+# the container's axis: {rate_rule};
+# inertial number omega d / sqrt(phi g h) = {inertial:.3g}.
 # dt = {a.dt_fraction:g} x the Rayleigh time {t_r:.4g} s = {dt:.4g} s; {steps_per_turn} steps per turn.
 # series.csv: wall_cylinder_tz_Nm is the torque M the grains exert on the cylinder about the
 # vertical axis; the drag is F = 4 M / L.
@@ -161,7 +162,7 @@ seed = {a.seed}
 dt = {dt:.6g}
 gravity = [0.0, 0.0, -9.81]
 skin = {0.5 * d:.6g}
-overlap_warning = 0.2           # a fall of up to ~{(zhi - height) * 1e3:.0g} mm onto the bed
+overlap_warning = 0.2           # a fall of up to ~{(zhi - height) * 1e3:.0f} mm onto the bed
 track_orientation = false       # a sphere's orientation enters no force
 
 [domain]
