@@ -294,10 +294,21 @@ def main() -> int:
         for name, (_, line, _) in fields.items():
             z = line["z_m"]
             sel = (z > zc + D / 2 + 2 * d) & (z < surf - 2 * d)
-            if sel.sum() > 2:
-                k = np.argmin(line["pressure_Pa"][sel])
+            # The paper's z_drop: a local minimum of the pressure going up from the cylinder,
+            # the lowest of a window of +-2 d, with the hydrostatic rise above it at least 5 %
+            # higher; none (null) where the pressure only falls towards the surface.
+            p_sel, z_sel = line["pressure_Pa"][sel], z[sel]
+            half = max(1, int(round(2 * d / (z[1] - z[0]))))
+            drops = [i for i in range(len(p_sel))
+                     if p_sel[i] == p_sel[max(0, i - half):i + half + 1].min()
+                     and p_sel[i + 1:].size and p_sel[i + 1:].max() > 1.05 * p_sel[i]]
+            if drops:
+                k = min(drops, key=lambda i: p_sel[i])
                 summary[f"pressure_min_above_cylinder_{name}_over_L"] = float(
-                    (z[sel][k] - zc) / L)
+                    (z_sel[k] - zc) / L)
+            else:
+                summary[f"pressure_min_above_cylinder_{name}_over_L"] = None
+            if sel.sum() > 2:
                 summary[f"volume_fraction_axis_above_{name}"] = float(
                     np.mean(line["volume_fraction"][sel]))
         if "first" in fields and "stationary" in fields:
@@ -311,8 +322,10 @@ def main() -> int:
             keep, along = plane(grid)
             keep &= grid["pressure_Pa"] > 0
             idx = np.flatnonzero(keep)
-            idx = idx[(np.round(along[idx] / d).astype(int) % 2 == 0)
-                      & (np.round(grid["z_m"][idx] / d).astype(int) % 3 == 0)]
+            # Every second node along the plane and every third up it, by rank.
+            col = np.unique(np.round(along[idx] / d, 3), return_inverse=True)[1]
+            row = np.unique(grid["z_m"][idx], return_inverse=True)[1]
+            idx = idx[(col % 2 == 0) & (row % 3 == 0)]
             norm = matplotlib.colors.Normalize(0, pmax)
             for i in idx:
                 sxx = (grid["sigma_xx_Pa"][i] * ca * ca + grid["sigma_yy_Pa"][i] * sa * sa +
