@@ -15,7 +15,7 @@
 # CHUNK_SECONDS=S stops each `sable run` after S seconds of wall time with SIGINT (the run
 # writes snapshots/interrupted_step_N.h5) and the script then exits 75: run it again to go on.
 # Writes $SABLE_OUT/rotating-cylinder/{quick,full}/CASE/ (run/, run.log, figures, summary.json)
-# and the study's study.json and fig3/fig6b figures. Two threads per run (THREADS=2).
+# and the study's study.json and fig3/fig6a/fig6b figures. Two threads per run (THREADS=2).
 # Environment: SABLE (default build/release/bin/sable), SABLE_OUT (default out), TURNS,
 # THREADS, CHUNK_SECONDS.
 set -euo pipefail

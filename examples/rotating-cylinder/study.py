@@ -6,9 +6,11 @@
 reads ROOT/*/summary.json (analyze_run.py) and writes ROOT/study.json (one row per case: E*,
 h/L measured, first-half-turn and stationary drag / (rho g D L^2), pressure minimum above the
 cylinder / L), ROOT/fig3_drag_vs_depth.png (the paper's Figs. 2-4: both drags against h/L, one
-colour per stiffness) and ROOT/fig6b_pressure_min.png (distance of the pressure minimum above
-the cylinder against h/L). Cases without a summary are listed as pending.
+colour per stiffness), ROOT/fig6a_axis_pressure.png (the stationary pressure on the vertical
+axis of every case, one panel per stiffness, a dot at each cylinder) and
+ROOT/fig6b_pressure_min.png (distance of the pressure minimum above the cylinder against h/L). Cases without a summary are listed as pending.
 """
+import csv
 import json
 import sys
 from pathlib import Path
@@ -60,6 +62,30 @@ def main() -> int:
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(root / "fig3_drag_vs_depth.png", dpi=120)
+    plt.close(fig)
+    stiffnesses = sorted({r["E_star"] for r in rows})
+    fig, axes = plt.subplots(1, len(stiffnesses), figsize=(4.5 * len(stiffnesses), 6),
+                             squeeze=False, sharey=True)
+    for ax, e in zip(axes[0], stiffnesses):
+        for r in sorted((r for r in rows if r["E_star"] == e), key=lambda r: r["h_over_L"]):
+            line = root / r["case"] / "axis_stationary" / "fields_line.csv"
+            if not line.is_file():
+                continue
+            with open(line) as f:
+                prof = list(csv.DictReader(f))
+            settings = json.loads((root / r["case"] / "scenario.json").read_text())
+            length, zc = settings["L_m"], settings["cylinder_center_z_m"]
+            z = [float(p["z_m"]) / length for p in prof]
+            pressure = [float(p["pressure_Pa"]) for p in prof]
+            (curve,) = ax.plot(pressure, z, lw=0.8, label=f"h/L = {r['h_over_L']:.2f}")
+            k = min(range(len(z)), key=lambda i: abs(z[i] - zc / length))
+            ax.plot([pressure[k]], [z[k]], "o", color=curve.get_color())
+        ax.set_title(f"E* = {e:.2g}, stationary")
+        ax.set_xlabel("pressure on the axis (Pa)")
+        ax.legend(fontsize=7)
+    axes[0][0].set_ylabel("z / L")
+    fig.tight_layout()
+    fig.savefig(root / "fig6a_axis_pressure.png", dpi=120)
     plt.close(fig)
     have = [r for r in rows if r["pressure_min_over_L"] is not None]
     if have:
