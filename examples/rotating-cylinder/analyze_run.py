@@ -219,9 +219,12 @@ def main() -> int:
                 if lo_turns < omega * (step * s["dt_s"] - t0) / (2 * math.pi) <= hi_turns + 1e-9]
 
     d = s["d_m"]
+    # Up to the measured surface (the pour packs looser than planned near the walls, so the
+    # bed stands a few d above the container's planned height), at least to that height.
+    top = max(hc, summary.get("surface_m", hc) + 2 * d)
     n_xy = max(4, round(2 * rc / d))
-    n_z = max(8, round(hc / d))
-    region = f"{-rc},{-rc},0:{rc},{rc},{hc}"
+    n_z = max(8, round(top / d))
+    region = f"{-rc},{-rc},0:{rc},{rc},{top}"
     frame = ["--frame", "0,0,0:0,0,1", "--omega", repr(omega), "--kernel", "sphere",
              "--width", repr(2 * d)]
     fields = {}
@@ -236,7 +239,7 @@ def main() -> int:
                            ["--only", "fields", "--grid", f"{n_xy}x{n_xy}x{n_z}", "--region",
                             region, *frame])
         ok = ok and sable_analyze(a.sable, snaps_w, case / f"axis_{name}",
-                                  ["--only", "fields", "--line", f"0,0,0:0,0,{hc}:{4 * n_z}",
+                                  ["--only", "fields", "--line", f"0,0,0:0,0,{top}:{4 * n_z}",
                                    *frame])
         if ok:
             fields[name] = (read_table(case / f"fields_{name}" / "fields.csv"),
@@ -342,7 +345,7 @@ def main() -> int:
                     color=plt.cm.viridis(norm(grid["pressure_Pa"][i]))))
             ax.add_patch(plt.Rectangle((-0.5, (zc - D / 2) / L), 1.0, D / L, color="r"))
             ax.set_xlim(-rc / L, rc / L)
-            ax.set_ylim(0, hc / L)
+            ax.set_ylim(0, top / L)
             ax.set_aspect("equal")
             ax.set_title(f"{name}: sigma.n / P in the plane, colour P")
             ax.set_xlabel("distance along the cylinder / L")
