@@ -16,8 +16,8 @@ outputs). Writes into CASE:
   summary.json        drags, torque balance, input power, depth measured after the pour,
                       pressure minimum above the cylinder, settings
   fields_first/, fields_stationary/, axis_first/, axis_stationary/, surface/  (sable analyze)
-The drag is computed here from series.csv; `sable analyze --only drag` (when this Sable has it)
-is run too and its summary copied in, with the difference between the two.
+The drag is computed here from series.csv; `sable analyze --only drag` and `--only load-share`
+(another branch adds them) are run too where this Sable has them, their summaries copied in.
 """
 import argparse
 import csv
@@ -195,6 +195,17 @@ def main() -> int:
         summary["sable_analyze_drag"] = json.loads((case / "drag_sable" / "summary.json").read_text())
     else:
         summary["sable_analyze_drag"] = "not available in this build (computed here from series.csv)"
+
+    # The share of the weight above the cylinder's top that the container wall carries
+    # (`sable analyze --only load-share`, another branch), over the stationary window.
+    stat_snaps = [p for step, p in snaps
+                  if omega * (step * s["dt_s"] - t0) / (2 * math.pi) > min(stat_from, total)]
+    if stat_snaps and sable_analyze(a.sable, stat_snaps, case / "load_share",
+                                    ["--only", "load-share", "--level", repr(zc + D / 2)]):
+        summary["sable_analyze_load_share"] = json.loads(
+            (case / "load_share" / "summary.json").read_text())
+    else:
+        summary["sable_analyze_load_share"] = "not available in this build"
 
     # Figure 2: drag against turns.
     fig, ax = plt.subplots(figsize=(7, 4))
