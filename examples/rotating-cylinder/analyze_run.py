@@ -16,8 +16,9 @@ outputs). Writes into CASE:
   summary.json        drags, torque balance, input power, depth measured after the pour,
                       pressure minimum above the cylinder, settings
   fields_first/, fields_stationary/, axis_first/, axis_stationary/, surface/  (sable analyze)
-The drag is computed here from series.csv; `sable analyze --only drag` and `--only load-share`
-(another branch adds them) are run too where this Sable has them, their summaries copied in.
+The drag is computed here from series.csv, and again by `sable analyze --only drag` (a check);
+`sable analyze --only load-share` at the cylinder's top gives the container wall's share of the
+weight above it; their summaries are copied in.
 """
 import argparse
 import csv
@@ -184,20 +185,22 @@ def main() -> int:
                             omega * s["d_m"] / math.sqrt(bulk * G * (surface - zc))})
     h_over_l = summary.get("h_over_L_measured", s["h_over_L_planned"])
 
-    # The drag analysis of `sable analyze` (another branch adds it): used where it exists.
+    # The same drag per half-turn by `sable analyze --only drag` (docs/analysis.md), from the
+    # turning's start: a check on this script's own numbers.
     snaps = snapshots(run)
     turning = [p for step, p in snaps if step * s["dt_s"] > t0 + 0.5 * s["dt_s"]]
     if turning and sable_analyze(
             a.sable, turning, case / "drag_sable",
             ["--only", "drag", "--drag-wall", "cylinder", "--omega", repr(omega),
              "--drag-axis", "0,0,1", "--drag-length", repr(L), "--series",
-             str(run / "series.csv"), "--stationary-from", repr(stat_from)]):
+             str(run / "series.csv"), "--turn-start", repr(t0),
+             "--stationary-from", repr(stat_from)]):
         summary["sable_analyze_drag"] = json.loads((case / "drag_sable" / "summary.json").read_text())
     else:
-        summary["sable_analyze_drag"] = "not available in this build (computed here from series.csv)"
+        summary["sable_analyze_drag"] = "sable analyze --only drag failed (see analysis.log)"
 
     # The share of the weight above the cylinder's top that the container wall carries
-    # (`sable analyze --only load-share`, another branch), over the stationary window.
+    # (`sable analyze --only load-share`), over the stationary window.
     stat_snaps = [p for step, p in snaps
                   if omega * (step * s["dt_s"] - t0) / (2 * math.pi) > min(stat_from, total)]
     if stat_snaps and sable_analyze(a.sable, stat_snaps, case / "load_share",
@@ -205,7 +208,7 @@ def main() -> int:
         summary["sable_analyze_load_share"] = json.loads(
             (case / "load_share" / "summary.json").read_text())
     else:
-        summary["sable_analyze_load_share"] = "not available in this build"
+        summary["sable_analyze_load_share"] = "sable analyze --only load-share failed (see analysis.log)"
 
     # Figure 2: drag against turns.
     fig, ax = plt.subplots(figsize=(7, 4))
