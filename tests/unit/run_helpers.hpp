@@ -6,8 +6,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "sable/scenario/config.hpp"
 #include "sable/scenario/runner.hpp"
@@ -45,6 +47,25 @@ inline std::string slurp(const std::filesystem::path& path) {
   std::stringstream s;
   s << f.rdbuf();
   return s.str();
+}
+
+// A CSV file of numbers (series.csv, an analysis table) as columns by name; `names`, when
+// given, gets the header's names in order. A cell that is not a number throws (std::stod).
+inline std::map<std::string, std::vector<double>> read_csv_columns(
+    const std::filesystem::path& path, std::vector<std::string>* names = nullptr) {
+  std::istringstream in(slurp(path));
+  std::string line, cell;
+  std::getline(in, line);
+  std::vector<std::string> header;
+  for (std::stringstream h(line); std::getline(h, cell, ',');) header.push_back(cell);
+  std::map<std::string, std::vector<double>> cols;
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    for (std::size_t c = 0; c < header.size() && std::getline(row, cell, ','); ++c)
+      cols[header[c]].push_back(std::stod(cell));
+  }
+  if (names) *names = header;
+  return cols;
 }
 
 // Run the `sable` executable with `args`, its stdout and stderr into `log`; returns its exit

@@ -118,25 +118,6 @@ TEST_F(MeshOutputs, WallsVtpHasOneCellPerTriangleAtTheTurnedPose) {
             0);
 }
 
-// A CSV file as columns by name (all values numbers).
-std::map<std::string, std::vector<double>> read_csv(const fs::path& p,
-                                                    std::vector<std::string>& names) {
-  std::istringstream in(sable::test::slurp(p));
-  std::string line;
-  std::getline(in, line);
-  names.clear();
-  std::stringstream header(line);
-  for (std::string name; std::getline(header, name, ',');) names.push_back(name);
-  std::map<std::string, std::vector<double>> cols;
-  while (std::getline(in, line)) {
-    std::stringstream row(line);
-    std::string v;
-    for (std::size_t c = 0; std::getline(row, v, ','); ++c)
-      cols[names.at(c)].push_back(std::stod(v));
-  }
-  return cols;
-}
-
 std::string box_scenario(int dim, const std::string& out) {
   const bool three = dim == 3;
   std::ostringstream s;
@@ -164,7 +145,7 @@ std::string box_scenario(int dim, const std::string& out) {
 template <int D>
 void check_torque_columns(const std::string& text, const fs::path& out) {
   std::vector<std::string> names;
-  const auto cols = read_csv(out / "series.csv", names);
+  const auto cols = sable::test::read_csv_columns(out / "series.csv", &names);
   World<D> world;
   sable::build_model(sable::parse_scenario(text, "test.toml"), world);
   sable::load_snapshot((out / "snapshots" / "end_of_stage_1.h5").string(), world);
@@ -245,7 +226,7 @@ TEST_F(MeshOutputs, AnalyzeReportsEachWallsTorque) {
   EXPECT_NE(tail.find("\"pivot_m\": [0, 0, 0]"), std::string::npos) << tail;
   EXPECT_FALSE(fs::exists(dir_ / "an" / "wall_profile_paddle.csv"));
   std::vector<std::string> names;
-  const auto cols = read_csv(dir_ / "an" / "series.csv", names);
+  const auto cols = sable::test::read_csv_columns(dir_ / "an" / "series.csv", &names);
   ASSERT_GE(names.size(), 12u);
   EXPECT_EQ(names[names.size() - 12], "wall_floor_fx_N");
   EXPECT_EQ(names[names.size() - 6], "wall_paddle_fx_N");

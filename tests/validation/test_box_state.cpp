@@ -22,31 +22,6 @@ using namespace sable;
 
 namespace {
 
-// series.csv as columns by name.
-std::map<std::string, std::vector<double>> read_csv(const fs::path& path) {
-  std::ifstream f(path);
-  std::string line, cell;
-  std::getline(f, line);
-  std::vector<std::string> names;
-  for (std::stringstream h(line); std::getline(h, cell, ',');) names.push_back(cell);
-  std::map<std::string, std::vector<double>> cols;
-  while (std::getline(f, line)) {
-    std::stringstream r(line);
-    for (const auto& n : names) {
-      std::getline(r, cell, ',');
-      cols[n].push_back(std::stod(cell));
-    }
-  }
-  return cols;
-}
-
-std::string slurp(const fs::path& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
 // 4 x 4 x 4 spheres of radius 1 mm on a cubic lattice of pitch 2 mm, touching without overlap
 // (no force anywhere), in a box 8 x 8 x 12 mm whose lid comes down at 0.01 m/s for 1000 steps
 // of 1 us: 10 um in all, far from the grains (a 4 mm gap), so nothing but the lid moves.
@@ -73,7 +48,7 @@ TEST(BoxState, SeriesColumnsMatchHandComputation) {
   const fs::path dir = fs::temp_directory_path() / "sable_test_box_lid";
   fs::remove_all(dir);
   sable::test::run_text(lid_run(dir.string()), {"", true, 1});
-  auto c = read_csv(dir / "series.csv");
+  auto c = sable::test::read_csv_columns(dir / "series.csv");
   ASSERT_EQ(c["step"].size(), 11u);  // step 0, then every 100 steps
   const double v = 0.01, dt = 1e-6, l0 = 0.012, grains = 64 * 4.0 / 3.0 * std::numbers::pi * 1e-9;
   for (std::size_t k = 0; k < c["step"].size(); ++k) {
@@ -96,10 +71,10 @@ TEST(BoxState, ResumedRunReportsTheSameStrain) {
   fs::remove_all(dir);
   const std::string text = lid_run(dir.string());
   sable::test::run_text(text, {"", true, 1});
-  const std::string full = slurp(dir / "series.csv");
+  const std::string full = sable::test::slurp(dir / "series.csv");
   sable::test::run_text(
       text, {(dir / "snapshots" / "step_0000000500.h5").string(), true, 1, false, true});
-  EXPECT_EQ(slurp(dir / "series.csv"), full);
+  EXPECT_EQ(sable::test::slurp(dir / "series.csv"), full);
   fs::remove_all(dir);
 }
 
@@ -147,7 +122,7 @@ TEST(ServoZeroTarget, DrySampleReleasedToZeroPressure) {
   }
   const auto b1 = measure_box(before), b2 = measure_box(after);
   for (int d = 0; d < 3; ++d) EXPECT_GT(b2->extent()[d], b1->extent()[d]) << "axis " << d;
-  auto c = read_csv(dir / "series.csv");
+  auto c = sable::test::read_csv_columns(dir / "series.csv");
   const char* ax[] = {"x", "y", "z"};
   for (std::size_t k = 0; k < c["step"].size(); ++k)
     for (int d = 0; d < 3; ++d) {

@@ -25,23 +25,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::map<std::string, std::vector<double>> read_columns(const fs::path& p) {
-  std::istringstream in(sable::test::slurp(p));
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  std::stringstream header(line);
-  for (std::string name; std::getline(header, name, ',');) names.push_back(name);
-  std::map<std::string, std::vector<double>> cols;
-  while (std::getline(in, line)) {
-    std::stringstream row(line);
-    std::string v;
-    for (std::size_t c = 0; std::getline(row, v, ',') && c < names.size(); ++c)
-      cols[names[c]].push_back(std::stod(v));
-  }
-  return cols;
-}
-
 // The grains' angular momentum about the vertical axis through the origin (the container's
 // axis): orbital plus spin.
 double angular_momentum_z(const sable::World<3>& w) {
@@ -128,7 +111,7 @@ TEST(RotatingCylinder, TorqueOnCylinderBalancesContainerFloorAndGrains) {
   sable::load_snapshot((r.dir / "run" / "snapshots" / "end_of_stage_2.h5").string(), end);
   ASSERT_GT(start.particles.size(), 2000u);
   ASSERT_LT(start.particles.size(), 5000u);
-  const auto cols = read_columns(r.dir / "run" / "series.csv");
+  const auto cols = sable::test::read_csv_columns(r.dir / "run" / "series.csv");
   const auto& step = cols.at("step");
   const auto& cyl = cols.at("wall_cylinder_tz_Nm");
   const auto& cont = cols.at("wall_container_tz_Nm");
@@ -172,7 +155,7 @@ TEST(RotatingCylinder, DragIsFourTorquesOverLengthFromSeries) {
   const std::string summary = sable::test::slurp(r.dir / "summary.json");
   const double length = json_number(settings, "L_m");
   const double t0 = json_number(summary, "turn_start_s");
-  const auto cols = read_columns(r.dir / "run" / "series.csv");
+  const auto cols = sable::test::read_csv_columns(r.dir / "run" / "series.csv");
   double sum = 0.0;
   std::size_t n = 0;
   for (std::size_t k = 0; k < cols.at("time_s").size(); ++k) {
