@@ -6,6 +6,9 @@
 #
 #   examples/rotating-cylinder/run.sh quick   L = 10 d, h/L = 1, E = 5 MPa, 2 turns at the
 #                                             inertial number 0.016 (the paper's largest)
+#   examples/rotating-cylinder/run.sh depths  the quick case at h/L = 0.5, 1, 2, 3 (E = 5 MPa,
+#                                             2 turns at I = 0.016 each: ~25-45 min per case on
+#                                             one core, docs/examples.md)
 #   examples/rotating-cylinder/run.sh full    L = 10 d, h/L = 0.5, 1, 2, 3 x E = 5 and 50 MPa
 #                                             (E* = 1.4e5 and 1.4e6), TURNS turns (default 5) at
 #                                             the scaling rule's rate
@@ -14,7 +17,7 @@
 # resumes from its newest one (`sable run --resume`); its scenario.toml is kept as written.
 # CHUNK_SECONDS=S stops each `sable run` after S seconds of wall time with SIGINT (the run
 # writes snapshots/interrupted_step_N.h5) and the script then exits 75: run it again to go on.
-# Writes $SABLE_OUT/rotating-cylinder/{quick,full}/CASE/ (run/, run.log, figures, summary.json)
+# Writes $SABLE_OUT/rotating-cylinder/{quick,depths,full}/CASE/ (run/, run.log, figures, summary.json)
 # and the study's study.json and fig3/fig6a/fig6b figures. Two threads per run (THREADS=2).
 # Environment: SABLE (default build/release/bin/sable), SABLE_OUT (default out), TURNS,
 # THREADS, CHUNK_SECONDS.
@@ -25,8 +28,8 @@ sable="${SABLE:-build/release/bin/sable}"
 threads="${THREADS:-2}"
 chunk="${CHUNK_SECONDS:-0}"
 mode="${1:-}"
-if [[ "$mode" != quick && "$mode" != full ]]; then
-  echo "usage: $0 quick|full   (see the header of $0)" >&2
+if [[ "$mode" != quick && "$mode" != depths && "$mode" != full ]]; then
+  echo "usage: $0 quick|depths|full   (see the header of $0)" >&2
   exit 2
 fi
 if [[ ! -x "$sable" ]]; then
@@ -90,6 +93,11 @@ if [[ "$mode" == quick ]]; then
   # quick.toml: make_scenario.py --length-d 10 --depth 1 --young 5e6 --turns 2
   #   --inertial 0.016 --dt-fraction 0.3 (its header)
   run_case h1.0_E5e6 --copy quick
+elif [[ "$mode" == depths ]]; then
+  for depth in 0.5 1 2 3; do
+    run_case "h${depth}_E5e6" --length-d 10 --depth "$depth" --young 5e6 --turns 2 \
+      --dt-fraction 0.3 --inertial 0.016
+  done
 else
   turns="${TURNS:-5}"
   for young in 5e6 5e7; do
