@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <sstream>
 
 #include "sable/core/error.hpp"
@@ -15,7 +16,6 @@ namespace sable {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // A row this close to a half-turn boundary (in half-turns) is taken to start the next one:
 // series.csv writes times with 10 significant digits, so a row logged at a boundary reads
 // slightly before or after it.
@@ -129,7 +129,7 @@ DragResult drag_per_half_turn(const TorqueSeries& s, const DragOptions& opt) {
         "option --omega: drag needs the wall's turning rate > 0 rad/s, got {}", opt.omega));
   if (s.time.empty()) throw InputError(fmt::format("{}: no data rows", clip(opt.series)));
   DragResult r;
-  r.half_turn_s = kPi / opt.omega;
+  r.half_turn_s = std::numbers::pi / opt.omega;
   r.turn_start_s = opt.turn_start ? *opt.turn_start : s.time.front();
   const double p = r.half_turn_s, t0 = r.turn_start_s;
   auto half_turn_of = [&](double t) { return std::floor((t - t0) / p + kBoundary); };

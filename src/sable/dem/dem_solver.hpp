@@ -101,6 +101,7 @@ class DemSolver final : public Solver {
   void update_near_list(const Displacements* moved);
   void update_mesh_reach(bool remade);
   void skip_far_entries();
+  void end_wall_contact(std::size_t k);
   // pair_pass: each grain's rolling factor, then the contact law picked for the pair forces
   // (dry: summed and closed per grain as the pass goes; wet: stored per contact) and, after
   // the bridges' liquid is settled, for the wet runs' closing loop (dem/grain_loops_impl.hpp).

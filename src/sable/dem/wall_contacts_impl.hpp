@@ -168,25 +168,15 @@ void DemSolver<D, Laws>::update_mesh_reach(bool remade) {
 template <int D, class Laws>
 void DemSolver<D, Laws>::skip_far_entries() {
   using S = Space<D>;
-  auto& wl = world_.neighbors.wall_pairs;
+  const auto& wl = world_.neighbors.wall_pairs;
   const auto& walls = world_.walls;
-  const bool rolling = with_rolling();
   const auto n = static_cast<std::uint32_t>(wl.size());
   assign_ahead(wall_from_, n + 1, n);
   std::uint32_t next = n;
   for (std::uint32_t k = n; k-- > 0;) {
     const bool far = mesh_reach_[k] == kFar && walls[wl.wall[k]].is_mesh() &&
                      wall_delta_[k] <= 0.0 && wl.force[k] == S::zero() && wl.shear[k] == S::zero();
-    if (far && wall_delta_[k] != 0.0) {  // cleared as mesh_contacts would have
-      wl.force[k].setZero();
-      wl.shear[k].setZero();
-      wall_moment_[k] = S::zero_rot();
-      wall_delta_[k] = 0.0;
-      if (rolling) {
-        wl.roll[k] = S::zero_rot();
-        wall_roll_[k] = S::zero_rot();
-      }
-    }
+    if (far) end_wall_contact(k);  // cleared as mesh_contacts would have
     if (!far) next = k;
     wall_from_[k] = next;
   }
@@ -221,6 +211,20 @@ WallFeature<D> DemSolver<D, Laws>::mesh_feature(std::uint32_t k, const Wall<D>& 
   return f;
 }
 
+// Wall pair k apart: a contact that held (overlap != 0) loses its force, history and rolling
+// spring; one already apart is left alone.
+template <int D, class Laws>
+void DemSolver<D, Laws>::end_wall_contact(std::size_t k) {
+  using S = Space<D>;
+  auto& wl = world_.neighbors.wall_pairs;
+  if (with_rolling() && wall_delta_[k] != 0.0) {
+    wl.roll[k] = S::zero_rot();
+    wall_roll_[k] = S::zero_rot();
+  }
+  dem_detail::forget_if_ended(wl.shear.data(), wl.force.data(), wall_moment_.data(),
+                              wall_delta_.data(), k, S::zero_rot());
+}
+
 // Wall pair k's contact, at the feature f of its wall: its force on the grain, n x F and
 // overlap stored in its slots (for the grain's sum), and its rolling couple; raises max_ratio
 // to the overlap over the radius.
@@ -237,12 +241,7 @@ void DemSolver<D, Laws>::wall_contact(std::size_t k, const Wall<D>& wall, const 
   g.n = f.n;
   g.delta = p.radius[i] - f.dist;
   if (!f.active || g.delta <= 0.0) {
-    if (rolling && wall_delta_[k] != 0.0) {
-      wl.roll[k] = S::zero_rot();
-      wall_roll_[k] = S::zero_rot();
-    }
-    dem_detail::forget_if_ended(wl.shear.data(), wl.force.data(), wall_moment_.data(),
-                                wall_delta_.data(), k, S::zero_rot());
+    end_wall_contact(k);
     return;
   }
   // The lever arm is -(R_i - delta/2) n (see PairPass::touch); a turning wall's velocity is
