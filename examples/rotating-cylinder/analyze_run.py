@@ -14,8 +14,10 @@ outputs). Writes into CASE:
   fig6_axis.png       pressure and volume fraction along the vertical axis (Figs. 5c, 6a)
   fig7_ellipses.png   stress ellipses sigma.n / P in the cylinder's plane (Fig. 7)
   summary.json        drags, torque balance, input power, depth measured after the pour,
-                      pressure minimum above the cylinder, settings
-  fields_first/, fields_stationary/, axis_first/, axis_stationary/, surface/  (sable analyze)
+                      pressure minimum above the cylinder, the balances of checks.py
+                      (power, weight, stationarity), settings
+  fields_first/, fields_stationary/, axis_first/, axis_stationary/, surface/, dissipation/,
+  weight/, fields_stationary_half1/, fields_stationary_half2/  (sable analyze)
 The drag is computed here from series.csv, and again by `sable analyze --only drag` (a check);
 `sable analyze --only load-share` at the cylinder's top gives the container wall's share of the
 weight above it; their summaries are copied in.
@@ -34,6 +36,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import checks  # noqa: E402
 
 G = 9.81
 
@@ -210,6 +215,20 @@ def main() -> int:
     else:
         summary["sable_analyze_load_share"] = "sable analyze --only load-share failed (see analysis.log)"
 
+    # The balances of the stationary window (checks.py): input power against dissipation, and
+    # the weight above a level midway between the cylinder's top and the surface against the
+    # coarse-grained sigma_zz there.
+    def analyze(snaps_, out_, args_):
+        return sable_analyze(a.sable, snaps_, out_, args_)
+
+    d = s["d_m"]
+    if stat_snaps and stat_from < total:
+        summary["power_balance"] = checks.power_balance(analyze, stat_snaps, case / "dissipation",
+                                                        -omega * m_mean)
+        level = 0.5 * (zc + D / 2 + summary.get("surface_m", hc))
+        summary["weight_balance"] = checks.weight_balance(analyze, stat_snaps, case / "weight",
+                                                          level, rc, d)
+
     # Figure 2: drag against turns.
     fig, ax = plt.subplots(figsize=(7, 4))
     ax.plot(turns[on], drag[on] / scale, lw=0.6, color="C0", label=f"h/L = {h_over_l:.2f}")
@@ -232,7 +251,6 @@ def main() -> int:
         return [p for step, p in snaps
                 if lo_turns < omega * (step * s["dt_s"] - t0) / (2 * math.pi) <= hi_turns + 1e-9]
 
-    d = s["d_m"]
     # Up to the measured surface (the pour packs looser than planned near the walls, so the
     # bed stands a few d above the container's planned height), at least to that height.
     top = max(hc, summary.get("surface_m", hc) + 2 * d)
@@ -269,6 +287,11 @@ def main() -> int:
         across = -x * sa + y * ca
         keep = (np.abs(across) <= 0.5 * d + 1e-12) & (np.hypot(x, y) < rc - d)
         return keep, along
+
+    if "stationary" in windows:
+        summary["stationarity"] = checks.stationarity(
+            analyze, window(*windows["stationary"]), case, frame,
+            ["--grid", f"{n_xy}x{n_xy}x{n_z}", "--region", region], plane, zc, L)
 
     if fields:
         fig, axes = plt.subplots(1, len(fields), figsize=(5 * len(fields), 7), squeeze=False)

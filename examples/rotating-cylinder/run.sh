@@ -9,18 +9,23 @@
 #   examples/rotating-cylinder/run.sh depths  the quick case at h/L = 0.5, 1, 2, 3 (E = 5 MPa,
 #                                             2 turns at I = 0.016 each: ~25-45 min per case on
 #                                             one core, docs/examples.md)
-#   examples/rotating-cylinder/run.sh full    L = 10 d, h/L = 0.5, 1, 2, 3 x E = 5 and 50 MPa
-#                                             (E* = 1.4e5 and 1.4e6), TURNS turns (default 5) at
-#                                             the scaling rule's rate
+#   examples/rotating-cylinder/run.sh stiff   the same four depths with E = 40 MPa (E* = 1.1e6),
+#                                             32 snapshots per turn
+#   examples/rotating-cylinder/run.sh facets  h/L = 2, E = 5 MPa with 128 facets round the
+#                                             cylinder instead of 32
+#   examples/rotating-cylinder/run.sh full    the study: depths, stiff and facets, each case in
+#                                             its own directory under full/
 #
+# `run.sh MODE CASE...` runs only the named cases of MODE (e.g. `run.sh stiff h3_E4e7`) and
+# leaves the study's plots to a run without names.
 # Resumable: a case whose run.log says `done:` is only analysed again; a case with snapshots
 # resumes from its newest one (`sable run --resume`); its scenario.toml is kept as written.
 # CHUNK_SECONDS=S stops each `sable run` after S seconds of wall time with SIGINT (the run
 # writes snapshots/interrupted_step_N.h5) and the script then exits 75: run it again to go on.
 # Writes $SABLE_OUT/rotating-cylinder/{quick,depths,full}/CASE/ (run/, run.log, figures, summary.json)
 # and the study's study.json and fig3/fig6a/fig6b figures. Two threads per run (THREADS=2).
-# Environment: SABLE (default build/release/bin/sable), SABLE_OUT (default out), TURNS,
-# THREADS, CHUNK_SECONDS.
+# Environment: SABLE (default build/release/bin/sable), SABLE_OUT (default out), THREADS,
+# CHUNK_SECONDS.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 here=examples/rotating-cylinder
@@ -28,10 +33,14 @@ sable="${SABLE:-build/release/bin/sable}"
 threads="${THREADS:-2}"
 chunk="${CHUNK_SECONDS:-0}"
 mode="${1:-}"
-if [[ "$mode" != quick && "$mode" != depths && "$mode" != full ]]; then
-  echo "usage: $0 quick|depths|full   (see the header of $0)" >&2
-  exit 2
-fi
+only=("${@:2}")
+case "$mode" in
+  quick | depths | stiff | facets | full) ;;
+  *)
+    echo "usage: $0 quick|depths|stiff|facets|full   (see the header of $0)" >&2
+    exit 2
+    ;;
+esac
 if [[ ! -x "$sable" ]]; then
   echo "$0: no executable $sable (build first: cmake --preset release && cmake --build --preset release, or set SABLE)" >&2
   exit 2
@@ -47,6 +56,9 @@ mkdir -p "$root"
 run_case() {
   local name="$1"
   shift
+  if [[ ${#only[@]} -gt 0 && ! " ${only[*]} " =~ " $name " ]]; then
+    return 0
+  fi
   local dir="$root/$name"
   mkdir -p "$dir"
   if [[ ! -f "$dir/scenario.toml" && "${1:-}" == --copy ]]; then
@@ -89,22 +101,28 @@ run_case() {
   echo "$name: analysed ($dir/summary.json)" >&2
 }
 
+# Every case of the study turns twice at the inertial number 0.016 (the paper's largest, the
+# rate set from each case's planned depth) with dt = 0.3 Rayleigh time (docs/examples.md).
+study_case() {  # study_case DEPTH YOUNG [FACETS [SNAPSHOTS_PER_TURN]]
+  local facets="${3:-32}" snaps="${4:-16}" name="h$1_E$2"
+  [[ "$facets" != 32 ]] && name="${name}_f${facets}"
+  run_case "$name" --length-d 10 --depth "$1" --young "$2" --turns 2 --dt-fraction 0.3 \
+    --inertial 0.016 --facets "$facets" --snapshots-per-turn "$snaps"
+}
 if [[ "$mode" == quick ]]; then
   # quick.toml: make_scenario.py --length-d 10 --depth 1 --young 5e6 --turns 2
   #   --inertial 0.016 --dt-fraction 0.3 (its header)
   run_case h1.0_E5e6 --copy quick
-elif [[ "$mode" == depths ]]; then
-  for depth in 0.5 1 2 3; do
-    run_case "h${depth}_E5e6" --length-d 10 --depth "$depth" --young 5e6 --turns 2 \
-      --dt-fraction 0.3 --inertial 0.016
-  done
-else
-  turns="${TURNS:-5}"
-  for young in 5e6 5e7; do
-    for depth in 0.5 1 2 3; do
-      run_case "h${depth}_E${young}" --length-d 10 --depth "$depth" --young "$young" \
-        --turns "$turns"
-    done
-  done
 fi
-/usr/bin/python3 "$here/study.py" "$root"
+if [[ "$mode" == depths || "$mode" == full ]]; then
+  for depth in 0.5 1 2 3; do study_case "$depth" 5e6; done
+fi
+if [[ "$mode" == stiff || "$mode" == full ]]; then
+  for depth in 0.5 1 2 3; do study_case "$depth" 4e7 32 32; done
+fi
+if [[ "$mode" == facets || "$mode" == full ]]; then
+  study_case 2 5e6 128 32
+fi
+if [[ ${#only[@]} -eq 0 ]]; then
+  /usr/bin/python3 "$here/study.py" "$root"
+fi

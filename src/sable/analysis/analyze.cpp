@@ -221,6 +221,7 @@ std::string analyze(const AnalyzeOptions& opt, const std::string& out_dir,
     if (opt.log)
       *opt.log << fmt::format("[{}/{}] {}\n", k + 1, opt.snapshots.size(), opt.snapshots[k]);
     Sample<D> s = loaders.load<D>(opt.snapshots[k]);
+    parts.add_lab(s);  // before a turning frame changes the velocities
     if (frame) s = to_rotating_frame(s, *frame);
     parts.add(s);
   }

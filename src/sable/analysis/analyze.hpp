@@ -16,6 +16,8 @@
 //   drag.csv                     a turning wall's torque and drag per half-turn (the run's
 //                                series.csv; drag.hpp)
 //   load_share.csv               the weight above a level and who carries it (load_share.hpp)
+//   dissipation.csv              power put in by each wall and dissipated by the contacts, per
+//                                snapshot, in the lab frame (dissipation.hpp)
 // With several snapshots, statistics are pooled over all of their contacts, tensors, wall
 // profiles and fields are averaged (time averages), and per-grain outputs are the last
 // snapshot's. With --plot, scripts/plot_analysis.py draws a PNG next to each table.
@@ -64,8 +66,9 @@ struct AnalyzeOptions {
 };
 
 inline constexpr const char* kAnalyses[] = {
-    "forces",      "coordination", "fabric",  "polarization", "particle-stress", "stress", "walls",
-    "percolation", "fields",       "janssen", "drag",         "load-share"};
+    "forces", "coordination", "fabric",      "polarization", "particle-stress",
+    "stress", "walls",        "percolation", "fields",       "janssen",
+    "drag",   "load-share",   "dissipation"};
 
 // Whether `name` runs: named in opt.only, or opt.only empty and (for drag and load-share,
 // which need an option of their own) that option given.

@@ -344,6 +344,13 @@ void AnalysisParts<D>::finish_load_share() {
   summary_.add("load_share", load_share_summary(load_shares_));
 }
 
+template <int D>
+void AnalysisParts<D>::finish_dissipation() {
+  if (budgets_.empty()) return;
+  out_.write("dissipation.csv", power_budget_table(budgets_));
+  summary_.add("dissipation", power_budget_summary(budgets_));
+}
+
 #define SABLE_FINISH(D)                                \
   template void AnalysisParts<D>::finish_forces();     \
   template void AnalysisParts<D>::finish_stress();     \
@@ -353,7 +360,8 @@ void AnalysisParts<D>::finish_load_share() {
   template void AnalysisParts<D>::finish_per_grain();  \
   template void AnalysisParts<D>::finish_janssen();    \
   template void AnalysisParts<D>::finish_drag();       \
-  template void AnalysisParts<D>::finish_load_share();
+  template void AnalysisParts<D>::finish_load_share(); \
+  template void AnalysisParts<D>::finish_dissipation();
 SABLE_FINISH(2)
 SABLE_FINISH(3)
 #undef SABLE_FINISH

@@ -18,7 +18,7 @@ void append(ContactSet<D>& dst, const ContactSet<D>& src, const std::vector<bool
   for (std::size_t k = 0; k < src.size(); ++k)
     if (mask[k])
       dst.push(src.i[k], src.j[k], src.is_wall(k), src.n[k], src.force[k], src.arm_i[k],
-               src.arm_j[k], src.branch[k], src.overlap[k], src.friction[k]);
+               src.arm_j[k], src.branch[k], src.overlap[k], src.friction[k], src.motion(k));
 }
 
 template <int D>
@@ -174,6 +174,11 @@ void AnalysisParts<D>::add(const Sample<D>& s) {
 }
 
 template <int D>
+void AnalysisParts<D>::add_lab(const Sample<D>& s) {
+  if (wants("dissipation")) budgets_.push_back(power_budget(s));
+}
+
+template <int D>
 void AnalysisParts<D>::add_contacts(const Sample<D>& s) {
   const auto& c = s.contacts;
   append(all_, c, std::vector<bool>(c.size(), true));
@@ -315,6 +320,7 @@ void AnalysisParts<D>::finish() {
   finish_janssen();
   finish_drag();
   finish_load_share();
+  finish_dissipation();
   if (samples_ > 1) {
     Table t;
     for (std::size_t c = 0; c < series_.front().size(); ++c) {
@@ -332,6 +338,7 @@ void AnalysisParts<D>::finish() {
   template AnalysisParts<D>::AnalysisParts(const AnalyzeOptions&, const ResultWriter&, \
                                            std::optional<Region<D>>);                  \
   template void AnalysisParts<D>::add(const Sample<D>&);                               \
+  template void AnalysisParts<D>::add_lab(const Sample<D>&);                           \
   template void AnalysisParts<D>::finish();
 SABLE_PARTS(2)
 SABLE_PARTS(3)

@@ -13,6 +13,7 @@
 
 #include "sable/analysis/analyze.hpp"
 #include "sable/analysis/coarse_grain.hpp"
+#include "sable/analysis/dissipation.hpp"
 #include "sable/analysis/drag.hpp"
 #include "sable/analysis/load_share.hpp"
 #include "sable/analysis/report.hpp"
@@ -28,6 +29,9 @@ class AnalysisParts {
   AnalysisParts(const AnalyzeOptions& opt, const ResultWriter& out,
                 std::optional<Region<D>> region);
   void add(const Sample<D>& s);
+  // The analyses that read a sample in the lab frame (dissipation), before add() sees it in a
+  // turning one.
+  void add_lab(const Sample<D>& s);
   // The drag analysis reads the run's series, not the samples: its result is handed in.
   void set_drag(const DragOptions& opt, const DragResult& result) { drag_.emplace(opt, result); }
   void finish();
@@ -50,6 +54,7 @@ class AnalysisParts {
   void finish_janssen();
   void finish_drag();
   void finish_load_share();
+  void finish_dissipation();
 
   const AnalyzeOptions& opt_;
   const ResultWriter& out_;
@@ -83,6 +88,7 @@ class AnalysisParts {
   std::optional<Sample<D>> last_;
   std::optional<std::pair<DragOptions, DragResult>> drag_;
   std::vector<LoadShare> load_shares_;  // one per sample
+  std::vector<PowerBudget> budgets_;    // one per sample, in the lab frame
 };
 
 // Pressure PDF: p / p_ref over a symmetric range, p_ref the mean |p| of the non-zero ones.

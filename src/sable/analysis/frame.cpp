@@ -82,6 +82,7 @@ Sample<D> to_rotating_frame(const Sample<D>& s, const RotatingFrame& frame) {
     c.arm_i[k] = r.vec(c.arm_i[k]);
     c.arm_j[k] = r.vec(c.arm_j[k]);
     c.branch[k] = r.vec(c.branch[k]);
+    c.vrel[k] = r.vec(c.vrel[k]);  // a difference of velocities at one point: the frame's cancels
   }
   for (auto& w : out.walls) {
     typename Space<D>::Vec p, n, f, pivot;

@@ -26,12 +26,16 @@ void ContactSet<D>::clear() {
   branch.clear();
   overlap.clear();
   friction.clear();
+  vrel.clear();
+  damping_n.clear();
+  damping_t.clear();
+  spring.clear();
 }
 
 template <int D>
 void ContactSet<D>::push(std::uint32_t gi, std::uint32_t partner, bool at_wall, const Vec& normal,
                          const Vec& f, const Vec& a_i, const Vec& a_j, const Vec& l, double delta,
-                         double mu) {
+                         double mu, const ContactMotion<D>& motion) {
   i.push_back(gi);
   j.push_back(partner);
   wall.push_back(at_wall ? 1 : 0);
@@ -45,6 +49,10 @@ void ContactSet<D>::push(std::uint32_t gi, std::uint32_t partner, bool at_wall, 
   branch.push_back(l);
   overlap.push_back(delta);
   friction.push_back(mu);
+  vrel.push_back(motion.vrel);
+  damping_n.push_back(motion.damping_n);
+  damping_t.push_back(motion.damping_t);
+  spring.push_back(motion.spring);
 }
 
 template <int D>
@@ -91,18 +99,39 @@ void add_grains(const World<D>& w, Sample<D>& s) {
   }
 }
 
+// The normal law's damping coefficients and the tangential spring's force of a touching soft
+// contact (zero otherwise: contact dynamics has no dashpot and no spring, an open capillary
+// bridge no overlap).
+template <int D>
+ContactMotion<D> contact_motion(const World<D>& w, const PairParams& pp, bool soft, double delta,
+                                double r_eff, double m_eff, const typename Space<D>::Vec& vrel,
+                                const typename Space<D>::Vec& shear) {
+  ContactMotion<D> m;
+  m.vrel = vrel;
+  if (!soft || !(delta > 0.0)) return m;
+  const NormalCoeffs c = NormalLaws::visit(
+      w.model.normal, [&]<class Law>() { return Law::coeffs(pp, w.model, delta, r_eff, m_eff); });
+  // Positive: the kernel multiplies minus the relative velocity by them (contact_model.hpp).
+  m.damping_n = c.gn;
+  m.damping_t = c.gt;
+  m.spring = c.kt * shear.norm();
+  return m;
+}
+
 // Soft contacts: the contact point sits in the middle of the overlap (where DEM applies the
 // force; for an open gap each arm ends on its grain's surface). Contact dynamics: arms end on
 // the surfaces. Geometry from the sample's positions (see sample.hpp for CD).
 template <int D>
 void add_contacts(const World<D>& w, Sample<D>& s) {
-  using Vec = typename Space<D>::Vec;
+  using S = Space<D>;
+  using Vec = typename S::Vec;
   const auto& p = w.particles;
   const bool soft = s.geometry == ForceGeometry::kSoft;
   const std::vector<Vec>& x = s.x;
   const auto& pl = w.neighbors.pairs;
   auto& c = s.contacts;
   c.clear();
+  auto inv_mass = [&](std::uint32_t g) { return p.fixed(g) ? 0.0 : 1.0 / p.mass[g]; };
   for (std::size_t k = 0; k < pl.size(); ++k) {
     const Vec& f = pl.force[k];
     if (f.squaredNorm() == 0.0) continue;
@@ -112,8 +141,14 @@ void add_contacts(const World<D>& w, Sample<D>& s) {
     const Vec n = dist > 0.0 ? Vec(d / dist) : Vec(Vec::UnitX());
     const double delta = p.radius[i] + p.radius[j] - dist;
     const double half = soft ? 0.5 * std::max(delta, 0.0) : 0.0;
-    const double mu = w.materials.pair(p.material[i], p.material[j]).friction;
-    c.push(i, j, false, n, f, (p.radius[i] - half) * n, -(p.radius[j] - half) * n, d, delta, mu);
+    const PairParams& pp = w.materials.pair(p.material[i], p.material[j]);
+    const Vec arm_i = (p.radius[i] - half) * n, arm_j = -(p.radius[j] - half) * n;
+    const Vec vrel =
+        p.v[i] + S::spin_velocity(p.omega[i], arm_i) - p.v[j] - S::spin_velocity(p.omega[j], arm_j);
+    const double r_eff = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
+    const double m_eff = 1.0 / std::max(inv_mass(i) + inv_mass(j), 1e-300);
+    c.push(i, j, false, n, f, arm_i, arm_j, d, delta, pp.friction,
+           contact_motion(w, pp, soft, delta, r_eff, m_eff, vrel, pl.shear[k]));
   }
   const auto& wl = w.neighbors.wall_pairs;
   for (std::size_t k = 0; k < wl.size(); ++k) {
@@ -127,8 +162,10 @@ void add_contacts(const World<D>& w, Sample<D>& s) {
     const Vec n = -into;  // from the grain towards the wall
     const double delta = p.radius[i] - dist;
     const Vec arm = (p.radius[i] - (soft ? 0.5 * std::max(delta, 0.0) : 0.0)) * n;
-    const double mu = w.materials.pair(p.material[i], wall.material).friction;
-    c.push(i, wl.wall[k], true, n, f, arm, Vec::Zero(), arm, delta, mu);
+    const PairParams& pp = w.materials.pair(p.material[i], wall.material);
+    const Vec vrel = p.v[i] + S::spin_velocity(p.omega[i], arm) - wall.velocity_at(x[i] + arm);
+    c.push(i, wl.wall[k], true, n, f, arm, Vec::Zero(), arm, delta, pp.friction,
+           contact_motion(w, pp, soft, delta, p.radius[i], p.mass[i], vrel, wl.shear[k]));
   }
 }
 

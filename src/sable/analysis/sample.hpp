@@ -43,6 +43,14 @@ namespace sable {
 template <int D>
 struct World;
 
+// A contact's motion and damping, what the dissipation analysis needs (dissipation.hpp).
+template <int D>
+struct ContactMotion {
+  typename Space<D>::Vec vrel = Space<D>::Vec::Zero();  // i's contact point less the partner's
+  double damping_n = 0.0, damping_t = 0.0;  // the law's gamma_n, gamma_t at this overlap (N s/m)
+  double spring = 0.0;  // the tangential spring's force k_t |xi| (N; DEM): mu f_n when sliding
+};
+
 // One record per contact carrying a non-zero force, as parallel arrays.
 template <int D>
 struct ContactSet {
@@ -58,13 +66,23 @@ struct ContactSet {
   std::vector<Vec> branch;         // x_j - x_i (pairs), arm_i (walls)
   std::vector<double> overlap;     // > 0 overlapping, < 0 open gap (m)
   std::vector<double> friction;    // Coulomb coefficient of the pair's materials
+  // The velocity of i's contact point less the partner's there (a wall's: its translation and
+  // spin at the point), and the normal law's damping coefficients at the overlap (DEM; zero
+  // for contact dynamics, whose contacts have no dashpot).
+  // The tangential spring's force k_t |xi| (DEM): the kernel slides when it reaches mu f_n.
+  std::vector<Vec> vrel;
+  std::vector<double> damping_n, damping_t, spring;
 
   std::size_t size() const { return i.size(); }
   bool is_wall(std::size_t k) const { return wall[k] != 0; }
   Vec point(std::size_t k, const std::vector<Vec>& x) const { return x[i[k]] + arm_i[k]; }
   void clear();
   void push(std::uint32_t gi, std::uint32_t partner, bool at_wall, const Vec& normal, const Vec& f,
-            const Vec& a_i, const Vec& a_j, const Vec& l, double delta, double mu);
+            const Vec& a_i, const Vec& a_j, const Vec& l, double delta, double mu,
+            const ContactMotion<D>& motion = {});
+  ContactMotion<D> motion(std::size_t k) const {
+    return {vrel[k], damping_n[k], damping_t[k], spring[k]};
+  }
 };
 
 struct SampleWall {
