@@ -70,10 +70,32 @@ World<D> sliding_grain() {
   return w;
 }
 
+// The time integrals (trapezoids on the samples after each step) of the budget's terms over
+// `steps` steps; the first sample is the world's state on entry.
+struct Integrals {
+  double energy_start = 0.0, energy_end = 0.0;  // K + U
+  double input = 0.0, contact = 0.0, dissipated = 0.0, sliding = 0.0;
+  PowerBudget last;
+};
+
 template <int D>
-double energy(const Sample<D>& s) {
-  const PowerBudget b = power_budget(s);
-  return b.kinetic + b.potential;
+Integrals integrate(World<D>& w, DemSolver<D>& solver, int steps) {
+  Integrals in;
+  PowerBudget b = power_budget(make_sample(w));
+  in.energy_start = b.kinetic + b.potential;
+  for (int k = 0; k < steps; ++k) {
+    const PowerBudget before = b;
+    solver.step();
+    b = power_budget(make_sample(w));
+    const double h = 0.5 * w.dt;
+    in.input += h * (before.walls() + b.walls());
+    in.contact += h * (before.contact + b.contact);
+    in.dissipated += h * (before.dissipation() + b.dissipation());
+    in.sliding += h * (before.sliding_power + b.sliding_power);
+  }
+  in.energy_end = b.kinetic + b.potential;
+  in.last = b;
+  return in;
 }
 
 // A sphere (disk) sliding at v0 without spin: friction mu m g slows it and spins it up until
@@ -100,18 +122,8 @@ TYPED_TEST(DissipationDim, ASlidingGrainLosesWhatRigidBodyMechanicsSays) {
   const double lost = k0 * i_ratio / (1.0 + i_ratio);
   // Sliding lasts v0 / (mu g (1 + 1 / i_ratio)): 0.019 s for a sphere; run 0.04 s. (The
   // energy of the launch step, 2e-6 s of sliding, 1e-4 of the loss, is left out of both sides.)
-  Sample<D> s = make_sample(w);
-  PowerBudget b = power_budget(s);
-  const double e0 = energy(s);
-  double dissipated = 0.0, sliding = 0.0;
-  for (int k = 0; k < 20000; ++k) {
-    const PowerBudget before = b;
-    solver.step();
-    s = make_sample(w);
-    b = power_budget(s);
-    dissipated += 0.5 * w.dt * (before.dissipation() + b.dissipation());
-    sliding += 0.5 * w.dt * (before.sliding_power + b.sliding_power);
-  }
+  const Integrals in = integrate(w, solver, 20000);
+  const Sample<D> s = make_sample(w);
   // Rolling at the end: v = R w within 1e-3 (the test has reached its regime).
   double spin = 0.0;
   if constexpr (D == 3)
@@ -121,12 +133,12 @@ TYPED_TEST(DissipationDim, ASlidingGrainLosesWhatRigidBodyMechanicsSays) {
   const double v = s.v[0][0];
   EXPECT_NEAR(v, v0 / (1.0 + i_ratio), 1e-3 * v0);
   EXPECT_NEAR(spin * r, v, 1e-3 * v0);
-  EXPECT_NEAR(dissipated, lost, 1e-3 * lost) << "sliding part " << sliding;
-  EXPECT_GT(sliding, 0.9 * lost);  // the Coulomb slip does most of it
+  EXPECT_NEAR(in.dissipated, lost, 1e-3 * lost) << "sliding part " << in.sliding;
+  EXPECT_GT(in.sliding, 0.9 * lost);  // the Coulomb slip does most of it
   // And the budget's own balance: the energy lost equals what was dissipated, to the same
   // 1e-3 (the floor puts nothing in: it does not move).
-  EXPECT_EQ(b.walls(), 0.0);
-  EXPECT_NEAR(e0 - energy(s), dissipated, 1e-3 * lost);
+  EXPECT_EQ(in.input, 0.0);
+  EXPECT_NEAR(in.energy_start - in.energy_end, in.dissipated, 1e-3 * lost);
 }
 
 // A paddle (a turning mesh) sweeping grains over a floor: grains collide, slide and are
@@ -142,19 +154,9 @@ TYPED_TEST(DissipationDim, APaddleSweepingGrainsClosesTheEnergyBalance) {
   DemSolver<D> solver(w);
   solver.initialize();
   for (int k = 0; k < 200; ++k) solver.step();
-  Sample<D> s = make_sample(w);
-  PowerBudget b = power_budget(s);
-  const double e0 = energy(s);
-  double input = 0.0, contact = 0.0;
-  for (int k = 0; k < 400; ++k) {
-    const PowerBudget before = b;
-    solver.step();
-    s = make_sample(w);
-    b = power_budget(s);
-    input += 0.5 * w.dt * (before.walls() + b.walls());
-    contact += 0.5 * w.dt * (before.contact + b.contact);
-  }
-  const double gained = energy(s) - e0;
+  const Integrals in = integrate(w, solver, 400);
+  const double input = in.input, contact = in.contact;
+  const double gained = in.energy_end - in.energy_start;
   ASSERT_GT(input, 0.0);  // the paddle drives the grains
   // The contacts' share is large enough for an error in P_c to show: 62 % of the input in 2D,
   // -5 % in 3D (there the grains' initial overlaps give back more than the collisions take).
@@ -168,7 +170,8 @@ TYPED_TEST(DissipationDim, APaddleSweepingGrainsClosesTheEnergyBalance) {
     omega_dot_torque = paddle.spin.dot(paddle.torque);
   else
     omega_dot_torque = paddle.spin * paddle.torque;
-  EXPECT_NEAR(b.wall_power[test::kPaddle], -omega_dot_torque, 1e-9 * std::abs(omega_dot_torque));
+  EXPECT_NEAR(in.last.wall_power[test::kPaddle], -omega_dot_torque,
+              1e-9 * std::abs(omega_dot_torque));
 }
 
 // One contact of each kind, by hand: the sums are those of dissipation.hpp's formulas.
