@@ -288,6 +288,9 @@ def main() -> int:
         keep = (np.abs(across) <= 0.5 * d + 1e-12) & (np.hypot(x, y) < rc - d)
         return keep, along
 
+    for name, (grid, _, _) in fields.items():
+        keep, along = plane(grid)
+        summary[f"arch_tilt_{name}"] = checks.arch_tilt(grid, keep, along, ca, sa, zc, D, L, d)
     if "stationary" in windows:
         summary["stationarity"] = checks.stationarity(
             analyze, window(*windows["stationary"]), case, frame,

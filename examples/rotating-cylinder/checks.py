@@ -9,6 +9,7 @@
   and their momentum rate (`sable analyze --only fields,load-share`).
 - stationarity: the turning-frame fields of the two halves of the stationary window, compared
   by the mean pressure in the bed within one L of the cylinder in its vertical plane.
+- arch_tilt: how far the major stress axes above the cylinder lean towards it (Fig. 7).
 Each returns a dict for summary.json (an "error" key when `sable analyze` failed).
 """
 import json
@@ -96,3 +97,32 @@ def stationarity(analyze, snaps: list, case: Path, frame: list, grid_args: list,
         means.append(float(np.mean(grid["pressure_Pa"][near])))
     return {"snapshots": [len(h) for h in halves], "pressure_near_cylinder_Pa": means,
             "relative_difference": abs(means[0] - means[1]) / (0.5 * (means[0] + means[1]))}
+
+
+def arch_tilt(grid: dict, keep, along, ca: float, sa: float, zc: float, D: float, L: float,
+              d: float) -> dict:
+    """The paper's arches (its Fig. 7): over the nodes of the cylinder's vertical plane above
+    it (from 2 d over its top to L above its axis, d < |along| <= L/2), the angle of the major
+    axis of the in-plane stress block from the vertical, in degrees, signed positive when it
+    leans towards the axis going up, as along the flanks of an arch over the cylinder: its
+    mean, and the mean of its size."""
+    z = grid["z_m"]
+    sel = keep & (grid["pressure_Pa"] > 0) & (z > zc + D / 2 + 2 * d) & (z < zc + L) & (
+        np.abs(along) <= 0.5 * L) & (np.abs(along) > d)
+    out, size = [], []
+    for i in np.flatnonzero(sel):
+        saa = (grid["sigma_xx_Pa"][i] * ca * ca + grid["sigma_yy_Pa"][i] * sa * sa +
+               (grid["sigma_xy_Pa"][i] + grid["sigma_yx_Pa"][i]) * ca * sa)
+        saz = 0.5 * ((grid["sigma_xz_Pa"][i] + grid["sigma_zx_Pa"][i]) * ca +
+                     (grid["sigma_yz_Pa"][i] + grid["sigma_zy_Pa"][i]) * sa)
+        vals, vecs = np.linalg.eigh(np.array([[saa, saz], [saz, grid["sigma_zz_Pa"][i]]]))
+        va, vz = vecs[0, 1], vecs[1, 1]  # the major axis (the largest eigenvalue, last)
+        if vz < 0:
+            va, vz = -va, -vz
+        angle = math.degrees(math.atan2(va, vz))
+        out.append(-angle if along[i] > 0 else angle)
+        size.append(abs(angle))
+    if not out:
+        return {"nodes": 0}
+    return {"nodes": len(out), "arch_tilt_deg": float(np.mean(out)),
+            "tilt_size_deg": float(np.mean(size))}
