@@ -86,12 +86,6 @@ def sable_analyze(sable: str, snaps: list, out: Path, args: list) -> bool:
     return r.returncode == 0
 
 
-def read_table(path: Path) -> dict:
-    with open(path) as f:
-        rows = list(csv.DictReader(f))
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
-
-
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("case")
@@ -179,7 +173,7 @@ def main() -> int:
     if pour_end.is_file() and sable_analyze(
             a.sable, [pour_end], case / "surface",
             ["--only", "fields", "--line", f"0,{0.5 * rc},0:0,{0.5 * rc},{1.3 * hc}:400"]):
-        prof = read_table(case / "surface" / "fields_line.csv")
+        prof = checks.read_table(case / "surface" / "fields_line.csv")
         phi = prof["volume_fraction"]
         bulk = float(np.median(phi[(prof["z_m"] > 0.2 * hc) & (prof["z_m"] < 0.8 * hc)]))
         above = np.flatnonzero(phi >= 0.5 * bulk)
@@ -274,8 +268,9 @@ def main() -> int:
                                   ["--only", "fields", "--line", f"0,0,0:0,0,{top}:{4 * n_z}",
                                    *frame])
         if ok:
-            fields[name] = (read_table(case / f"fields_{name}" / "fields.csv"),
-                            read_table(case / f"axis_{name}" / "fields_line.csv"), len(snaps_w))
+            fields[name] = (checks.read_table(case / f"fields_{name}" / "fields.csv"),
+                            checks.read_table(case / f"axis_{name}" / "fields_line.csv"),
+                            len(snaps_w))
     summary["field_windows_snapshots"] = {k: v[2] for k, v in fields.items()}
     alpha = -omega * t0
     ca, sa = math.cos(alpha), math.sin(alpha)
@@ -371,11 +366,7 @@ def main() -> int:
             idx = idx[(col % 2 == 0) & (row % 3 == 0)]
             norm = matplotlib.colors.Normalize(0, pmax)
             for i in idx:
-                sxx = (grid["sigma_xx_Pa"][i] * ca * ca + grid["sigma_yy_Pa"][i] * sa * sa +
-                       (grid["sigma_xy_Pa"][i] + grid["sigma_yx_Pa"][i]) * ca * sa)
-                sxz = 0.5 * ((grid["sigma_xz_Pa"][i] + grid["sigma_zx_Pa"][i]) * ca +
-                             (grid["sigma_yz_Pa"][i] + grid["sigma_zy_Pa"][i]) * sa)
-                m2 = np.array([[sxx, sxz], [sxz, grid["sigma_zz_Pa"][i]]]) / grid["pressure_Pa"][i]
+                m2 = checks.plane_stress(grid, i, ca, sa) / grid["pressure_Pa"][i]
                 vals, vecs = np.linalg.eigh(m2)
                 vals = np.clip(vals, 0.05, None)
                 size = 1.6 * d / L / max(vals.max(), 1.0)

@@ -12,11 +12,29 @@
 - arch_tilt: how far the major stress axes above the cylinder lean towards it (Fig. 7).
 Each returns a dict for summary.json (an "error" key when `sable analyze` failed).
 """
+import csv
 import json
 import math
 from pathlib import Path
 
 import numpy as np
+
+
+def read_table(path: Path) -> dict:
+    """A CSV of `sable analyze` (fields.csv, fields_line.csv...) as {column: array}."""
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+
+
+def plane_stress(grid: dict, i: int, ca: float, sa: float) -> np.ndarray:
+    """Node i's stress in the vertical plane along (ca, sa, 0) and z: the 2 x 2 block (Pa),
+    its off-diagonal the mean of the two shear components."""
+    saa = (grid["sigma_xx_Pa"][i] * ca * ca + grid["sigma_yy_Pa"][i] * sa * sa +
+           (grid["sigma_xy_Pa"][i] + grid["sigma_yx_Pa"][i]) * ca * sa)
+    saz = 0.5 * ((grid["sigma_xz_Pa"][i] + grid["sigma_zx_Pa"][i]) * ca +
+                 (grid["sigma_yz_Pa"][i] + grid["sigma_zy_Pa"][i]) * sa)
+    return np.array([[saa, saz], [saz, grid["sigma_zz_Pa"][i]]])
 
 
 def power_balance(analyze, snaps: list, out: Path, omega_torque_W: float) -> dict:
@@ -54,12 +72,8 @@ def weight_balance(analyze, snaps: list, out: Path, level: float, rc: float, d: 
                                 "--region", region, "--kernel", "sphere", "--width",
                                 repr(2.0 * d), "--level", repr(level)]):
         return {"error": "sable analyze --only fields,load-share failed (see analysis.log)"}
-    with open(out / "fields.csv") as f:
-        names = f.readline().strip().split(",")
-    grid = np.genfromtxt(out / "fields.csv", delimiter=",", skip_header=1)
-    col = {k: i for i, k in enumerate(names)}
     cell = (2.0 * half / n) ** 2
-    integral = float(np.sum(grid[:, col["sigma_zz_Pa"]]) * cell)
+    integral = float(np.sum(read_table(out / "fields.csv")["sigma_zz_Pa"]) * cell)
     ls = json.loads((out / "summary.json").read_text())["load_share"]
     weight = ls["weight_N"]
     walls = ls["all_walls"]["force_N"]
@@ -87,10 +101,7 @@ def stationarity(analyze, snaps: list, case: Path, frame: list, grid_args: list,
         out = case / f"fields_stationary_half{k + 1}"
         if not analyze(part, out, ["--only", "fields", *grid_args, *frame]):
             return {"error": f"sable analyze --only fields on half {k + 1} failed"}
-        with open(out / "fields.csv") as f:
-            names = f.readline().strip().split(",")
-        g = np.genfromtxt(out / "fields.csv", delimiter=",", skip_header=1)
-        grid = {name: g[:, i] for i, name in enumerate(names)}
+        grid = read_table(out / "fields.csv")
         keep, along = plane(grid)
         near = keep & (np.abs(along) <= L) & (np.abs(grid["z_m"] - zc) <= L) & (
             grid["volume_fraction"] > 0.3)
@@ -111,11 +122,7 @@ def arch_tilt(grid: dict, keep, along, ca: float, sa: float, zc: float, D: float
         np.abs(along) <= 0.5 * L) & (np.abs(along) > d)
     out, size = [], []
     for i in np.flatnonzero(sel):
-        saa = (grid["sigma_xx_Pa"][i] * ca * ca + grid["sigma_yy_Pa"][i] * sa * sa +
-               (grid["sigma_xy_Pa"][i] + grid["sigma_yx_Pa"][i]) * ca * sa)
-        saz = 0.5 * ((grid["sigma_xz_Pa"][i] + grid["sigma_zx_Pa"][i]) * ca +
-                     (grid["sigma_yz_Pa"][i] + grid["sigma_zy_Pa"][i]) * sa)
-        vals, vecs = np.linalg.eigh(np.array([[saa, saz], [saz, grid["sigma_zz_Pa"][i]]]))
+        vals, vecs = np.linalg.eigh(plane_stress(grid, i, ca, sa))
         va, vz = vecs[0, 1], vecs[1, 1]  # the major axis (the largest eigenvalue, last)
         if vz < 0:
             va, vz = -va, -vz

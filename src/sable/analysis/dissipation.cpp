@@ -88,17 +88,11 @@ namespace {
 // Mean, standard deviation (n - 1) and standard error of the mean of value(row).
 template <class F>
 Summary stats(const std::vector<PowerBudget>& rows, const F& value) {
-  const double n = static_cast<double>(rows.size());
-  double m = 0.0;
-  for (const PowerBudget& r : rows) m += value(r);
-  m /= n;
-  double v = 0.0;
-  for (const PowerBudget& r : rows) v += (value(r) - m) * (value(r) - m);
-  const double sd = rows.size() > 1 ? std::sqrt(v / (n - 1.0)) : 0.0;
+  const auto [m, sd] = mean_sd(rows, value);
   Summary s;
   s.add("mean_W", m);
   s.add("sd_W", sd);
-  s.add("sem_W", sd / std::sqrt(n));
+  s.add("sem_W", sd / std::sqrt(static_cast<double>(rows.size())));
   return s;
 }
 
@@ -121,11 +115,8 @@ Summary power_budget_summary(const std::vector<PowerBudget>& rows) {
   s.add("damping_tangential",
         stats(rows, [](const PowerBudget& r) { return r.damping_tangential; }));
   s.add("sliding", stats(rows, [](const PowerBudget& r) { return r.sliding_power; }));
-  double in = 0.0, out = 0.0;
-  for (const PowerBudget& r : rows) {
-    in += r.walls();
-    out += r.dissipation();
-  }
+  const double in = mean_sd(rows, [](const PowerBudget& r) { return r.walls(); }).first;
+  const double out = mean_sd(rows, [](const PowerBudget& r) { return r.dissipation(); }).first;
   s.add("input_over_dissipation", out != 0.0 ? in / out : std::nan(""));
   const PowerBudget &a = rows.front(), &b = rows.back();
   const double span = b.time - a.time;

@@ -89,18 +89,7 @@ Table load_share_table(const std::vector<LoadShare>& rows) {
 
 namespace {
 
-// Mean and standard deviation (sample, n - 1; 0 for one snapshot) of value(row).
-template <class F>
-std::pair<double, double> mean_sd(const std::vector<LoadShare>& rows, const F& value) {
-  double m = 0.0;
-  for (const LoadShare& r : rows) m += value(r);
-  m /= static_cast<double>(rows.size());
-  double v = 0.0;
-  for (const LoadShare& r : rows) v += (value(r) - m) * (value(r) - m);
-  const double sd = rows.size() > 1 ? std::sqrt(v / static_cast<double>(rows.size() - 1)) : 0.0;
-  return {m, sd};
-}
-
+// A support's force and its share of the weight: means and standard deviations.
 template <class F>
 Summary support(const std::vector<LoadShare>& rows, const F& value) {
   const auto [m, sd] = mean_sd(rows, value);

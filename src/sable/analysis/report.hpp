@@ -6,12 +6,26 @@
 // refuses to replace the snapshot it analyses (see guard_output).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace sable {
+
+// Mean and sample standard deviation (n - 1; 0 for one row) of value(row) over rows, which
+// must not be empty: the per-snapshot series of an analysis summarised.
+template <class Row, class F>
+std::pair<double, double> mean_sd(const std::vector<Row>& rows, const F& value) {
+  const double n = static_cast<double>(rows.size());
+  double m = 0.0;
+  for (const Row& r : rows) m += value(r);
+  m /= n;
+  double v = 0.0;
+  for (const Row& r : rows) v += (value(r) - m) * (value(r) - m);
+  return {m, rows.size() > 1 ? std::sqrt(v / (n - 1.0)) : 0.0};
+}
 
 struct Table {
   std::vector<std::string> names;  // with units: "z_m", "sigma_n_Pa"; "-" for none

@@ -66,10 +66,10 @@ struct ContactSet {
   std::vector<Vec> branch;         // x_j - x_i (pairs), arm_i (walls)
   std::vector<double> overlap;     // > 0 overlapping, < 0 open gap (m)
   std::vector<double> friction;    // Coulomb coefficient of the pair's materials
-  // The velocity of i's contact point less the partner's there (a wall's: its translation and
-  // spin at the point), and the normal law's damping coefficients at the overlap (DEM; zero
-  // for contact dynamics, whose contacts have no dashpot).
-  // The tangential spring's force k_t |xi| (DEM): the kernel slides when it reaches mu f_n.
+  // ContactMotion's fields, as arrays: the velocity of i's contact point less the partner's
+  // there (a wall's: its translation and spin at the point); the normal law's damping
+  // coefficients at the overlap and the tangential spring's force k_t |xi| (DEM; zero for
+  // contact dynamics, whose contacts have neither dashpot nor spring).
   std::vector<Vec> vrel;
   std::vector<double> damping_n, damping_t, spring;
 
