@@ -2,12 +2,15 @@
 // entries beyond reach at a near-list remake are skipped until the next, and the others are
 // tested first against the bound their values at the remake give (MeshShape::
 // may_touch_within). Both only skip elements the exact test would reject, so the bits do not
-// depend on when the lists are remade.
+// depend on when the lists are remade. And the list itself: a still mesh's reach.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
+#include "sable/collision/neighbor_list.hpp"
 #include "sable/core/hash.hpp"
 #include "sable/core/rng.hpp"
 #include "sable/dem/dem_solver.hpp"
@@ -188,6 +191,96 @@ TEST(MeshReach, FineFloorGivesTheSameBitsWhateverTheRemakes3D) {
 
 TEST(MeshReach, FineLineGivesTheSameBitsWhateverTheRemakes2D) {
   EXPECT_EQ(fine_floor_run<2>(false), fine_floor_run<2>(true));
+}
+
+// The list reach (NeighborList::list_reach): a still mesh lists its elements within half the
+// skin, a moving one within the whole skin, exactly as brute force with the same distance
+// function finds them. Then grains random-walking over a fine still floor (steps of 0.098
+// skin in persistent directions, so a grain can cover half the skin in 6 steps), and the
+// floor sliding and rising under them, the lists rebuilt only when needs_rebuild says so:
+// at every step every touching (grain, element) pair is listed. Exact: set membership.
+TEST(MeshReach, StillMeshListsWithinHalfTheSkinAndMissesNoContact) {
+  using Entry = std::pair<std::uint32_t, std::uint32_t>;
+  const double skin = 0.2 * kR;
+  std::vector<sable::Wall<3>> walls(1);
+  walls[0].name = "floor";
+  walls[0].set_mesh(grid(40, 0.5 * kR));
+  sable::ParticleStore<3> p;
+  sable::Rng rng(11);
+  std::vector<V3> step_of;
+  for (int k = 0; k < 150; ++k) {
+    const V3 x(rng.uniform(-8, 8), rng.uniform(-8, 8), rng.uniform(0.85, 1.15));
+    p.add(x * kR, 0.9 * kR, 2500.0, 0, 1.0);
+    step_of.push_back(V3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)).normalized());
+  }
+  sable::NeighborList<3> nl;
+  nl.skin = skin;
+  nl.domain_lo = V3::Constant(-0.012);
+  nl.domain_hi = V3::Constant(0.012);
+  const auto brute = [&](double reach, bool touching) {
+    std::vector<Entry> out;
+    const auto& mesh = *walls[0].mesh();
+    for (std::uint32_t i = 0; i < p.size(); ++i)
+      for (std::uint32_t e = 0; e < mesh.elements(); ++e) {
+        const double gap = mesh.element_distance(p.x[i], e) - p.radius[i];
+        if (touching ? gap < 0.0 : gap < reach) out.emplace_back(i, e);
+      }
+    return out;
+  };
+  const auto listed = [&] {
+    std::vector<Entry> out;
+    for (std::size_t k = 0; k < nl.wall_pairs.size(); ++k)
+      out.emplace_back(nl.wall_pairs.i[k], nl.wall_pairs.element[k]);
+    return out;
+  };
+  nl.build(p, walls);
+  EXPECT_EQ(nl.wall_reach, std::vector<double>{0.5 * skin});
+  EXPECT_EQ(listed(), brute(0.5 * skin, false));
+  EXPECT_LT(listed().size(), brute(skin, false).size() * 3 / 4);  // the half reach spares many
+  // Grain pairs force a rebuild at 2 dp = skin; a still mesh adds none before, a moved one
+  // does once dp + dw reaches its half skin.
+  const V3 x0 = p.x[0];
+  p.x[0].x() += 0.45 * skin;
+  EXPECT_FALSE(nl.needs_rebuild(p, walls));
+  walls[0].point.x() += 0.06 * skin;
+  walls[0].place();
+  EXPECT_TRUE(nl.needs_rebuild(p, walls));
+  walls[0].point.x() -= 0.06 * skin;
+  walls[0].place();
+  p.x[0] = x0;
+  walls[0].velocity = V3(0.0, 0.0, 1e-3);  // moving: the whole skin
+  nl.build(p, walls);
+  EXPECT_EQ(nl.wall_reach, std::vector<double>{skin});
+  EXPECT_EQ(listed(), brute(skin, false));
+
+  walls[0].velocity = V3::Zero();
+  nl.build(p, walls);
+  std::size_t rebuilds = 0, touching = 0;
+  for (int step = 0; step < 160; ++step) {
+    if (nl.needs_rebuild(p, walls)) {
+      nl.build(p, walls);
+      ++rebuilds;
+    }
+    const auto have = listed();
+    for (const Entry& t : brute(0.0, true)) {
+      ++touching;
+      ASSERT_TRUE(std::binary_search(have.begin(), have.end(), t))
+          << "step " << step << ": grain " << t.first << " touches element " << t.second
+          << " unlisted";
+    }
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      if (rng.uniform() < 0.1)
+        step_of[k] = V3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)).normalized();
+      p.x[k] += (step >= 100 ? 0.01 : 1.0) * 0.098 * skin * step_of[k];
+    }
+    if (step >= 100) {  // the floor slides and rises at 0.05 skin a step
+      walls[0].velocity = V3(0.03, 0.0, 0.04) * skin;
+      walls[0].advance(1.0);
+    }
+  }
+  EXPECT_GT(touching, 5000u);
+  EXPECT_GT(rebuilds, 15u);  // rebuilds happened ...
+  EXPECT_LT(rebuilds, 80u);  // ... but not every step
 }
 
 }  // namespace

@@ -36,14 +36,23 @@ bool NeighborList<D>::needs_rebuild_after(double max_d2, const std::vector<Wall<
                                           double margin) const {
   if (max_d2 < 0.0 || wall_ref.size() != walls.size() || wall_ref_turn.size() != walls.size())
     return true;
-  // The largest distance any wall surface moved (a turning body's far end moves fastest);
-  // for walls that only translate, exactly the largest shift of their points.
-  double dw = 0.0;
-  for (std::size_t w = 0; w < walls.size(); ++w)
-    dw = std::max(dw, walls[w].moved_since(wall_ref[w], wall_ref_turn[w], domain_lo, domain_hi));
   const double dp = std::sqrt(max_d2) + margin;
-  // Two grains close in by at most 2 dp; a grain and a wall by at most dp + dw.
-  return 2.0 * dp >= skin || dp + dw >= skin;
+  // Two grains close in by at most 2 dp; a grain and wall w by at most dp + dw, dw the
+  // largest distance the wall's surface moved (a turning body's far end moves fastest; for a
+  // wall that only translates, exactly the shift of its point), against the wall's reach.
+  if (2.0 * dp >= skin) return true;
+  const bool reaches = wall_reach.size() == walls.size();
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    const double dw = walls[w].moved_since(wall_ref[w], wall_ref_turn[w], domain_lo, domain_hi);
+    if (dp + dw >= (reaches ? wall_reach[w] : skin)) return true;
+  }
+  return false;
+}
+
+template <int D>
+double NeighborList<D>::list_reach(const Wall<D>& wall) const {
+  const bool still = wall.velocity == Vec::Zero() && !wall.turning();
+  return wall.is_mesh() && still ? 0.5 * skin : skin;
 }
 
 template <int D>
@@ -221,7 +230,8 @@ void NeighborList<D>::bin_elements(const Wall<D>& wall, double reach) {
 }
 
 // Grain-wall candidates: for each grain (ascending), each wall (ascending) whose surface is
-// within the skin; a mesh's elements within the skin, ascending, from the grain's cell.
+// within the wall's reach (list_reach); a mesh's elements within it, ascending, from the
+// grain's cell.
 template <int D>
 void NeighborList<D>::build_wall_pairs(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls,
                                        WallPairList<D>& out) {
@@ -234,21 +244,23 @@ void NeighborList<D>::build_wall_pairs(const ParticleStore<D>& p, const std::vec
     out.element.push_back(e);
   };
   Vec n;
+  wall_reach.resize(walls.size());
   for (std::size_t w = 0; w < walls.size(); ++w) {
     const Wall<D>& wall = walls[w];
+    const double reach = wall_reach[w] = list_reach(wall);
     if (wall.is_mesh()) {
-      bin_elements(wall, rmax + skin);
+      bin_elements(wall, rmax + reach);
       for (std::size_t i = 0; i < p.size(); ++i) {
         if (p.inv_mass[i] == 0.0) continue;
         const std::uint32_t c = cell_of_[i];
         for (std::uint32_t k = element_start_[c]; k < element_start_[c + 1]; ++k)
-          if (wall.mesh()->element_distance(p.x[i], element_items_[k]) - p.radius[i] < skin)
+          if (wall.mesh()->element_distance(p.x[i], element_items_[k]) - p.radius[i] < reach)
             add(i, w, element_items_[k]);
       }
       continue;
     }
     for (std::size_t i = 0; i < p.size(); ++i)
-      if (p.inv_mass[i] != 0.0 && wall.distance(p.x[i], n) - p.radius[i] < skin) add(i, w, 0);
+      if (p.inv_mass[i] != 0.0 && wall.distance(p.x[i], n) - p.radius[i] < reach) add(i, w, 0);
   }
   // Found wall by wall; the list is sorted by (grain, wall, element): a stable sort by grain.
   const std::size_t m = out.size();

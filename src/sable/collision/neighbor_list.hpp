@@ -93,6 +93,10 @@ class NeighborList {
   std::vector<Vec> x_ref;                                     // positions at the last build
   std::vector<Vec> wall_ref;                                  // wall points at the last build
   std::vector<typename Space<D>::Orientation> wall_ref_turn;  // and their orientations
+  // Each wall's list reach at the last build: its grains within this gap are listed. The
+  // whole skin, but half of it for a mesh that stood still then (list_reach()). Empty (the
+  // whole skin for every wall) before a build or from a snapshot written without it.
+  std::vector<double> wall_reach;
   std::uint64_t builds = 0;
   bool bridges = false;                        // pairs carry a bridge volume (capillary law)
   bool rolling = false;                        // both lists carry a rolling spring
@@ -117,6 +121,14 @@ class NeighborList {
   bool needs_rebuild_after(double max_d2, const std::vector<Wall<D>>& walls,
                            double margin = 0.0) const;
   void build(const ParticleStore<D>& p, const std::vector<Wall<D>>& walls);
+  // The gap within which a build lists the grains of `wall`. A grain and a wall close in by at
+  // most dp + dw between builds, while grain pairs close in by 2 dp and force a rebuild at
+  // dp = skin / 2: for a wall standing still (dw = 0), half the skin is then enough and
+  // costs no extra rebuild. Only meshes take it: a fine mesh lists tens of elements per grain
+  // within the skin (bench/mesh_floor.sh), a plane, box or cylinder one entry per grain near
+  // it, whose list (and state hash) stay as they are. A moving wall keeps the whole skin, or
+  // its own motion would make the rebuilds come sooner.
+  double list_reach(const Wall<D>& wall) const;
 
  private:
   void build_cells(const ParticleStore<D>& p);

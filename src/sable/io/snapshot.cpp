@@ -167,6 +167,7 @@ void write_neighbors(h5::File& f, const NeighborList<D>& nl) {
   write_rows(f, "/neighbors/x_ref", nl.x_ref);
   write_rows(f, "/neighbors/wall_ref", nl.wall_ref);
   write_rows(f, "/neighbors/wall_ref_turn", nl.wall_ref_turn);
+  f.write("/neighbors/wall_reach", nl.wall_reach);
   f.write("/neighbors/pairs/i", nl.pairs.i);
   f.write("/neighbors/pairs/j", nl.pairs.j);
   write_rows(f, "/neighbors/pairs/shear", nl.pairs.shear);
@@ -488,6 +489,22 @@ void read_neighbors(const h5::File& f, std::size_t n, const std::vector<std::uin
         fmt::format("dataset '/neighbors/wall_ref_turn' has {} rows, expected {} (as "
                     "'/neighbors/wall_ref')",
                     nl.wall_ref_turn.size(), nl.wall_ref.size()));
+  // Each wall's list reach: absent from files written before it existed, whose lists were
+  // all made within the whole skin (empty means exactly that).
+  if (f.exists("/neighbors/wall_reach")) {
+    nl.wall_reach = f.read<double>("/neighbors/wall_reach", 0);
+    if (nl.wall_reach.size() != nl.wall_ref.size())
+      f.fail(
+          fmt::format("dataset '/neighbors/wall_reach' has {} values, expected {} (as "
+                      "'/neighbors/wall_ref')",
+                      nl.wall_reach.size(), nl.wall_ref.size()));
+    for (std::size_t w = 0; w < nl.wall_reach.size(); ++w)
+      if (!(nl.wall_reach[w] >= 0.0 && nl.wall_reach[w] <= nl.skin))
+        f.fail(
+            fmt::format("'/neighbors/wall_reach' value {} is {}; expected a reach within "
+                        "[0, skin = {}]",
+                        w, nl.wall_reach[w], nl.skin));
+  }
   check_pairs(f, nl, n, elements);
 }
 
@@ -589,6 +606,7 @@ void swap_state(World<D>& w, Loaded<D>& s) {
   swap(a.x_ref, b.x_ref);
   swap(a.wall_ref, b.wall_ref);
   swap(a.wall_ref_turn, b.wall_ref_turn);
+  swap(a.wall_reach, b.wall_reach);
   swap(a.builds, b.builds);
   swap(w.liquid, s.liquid);
   swap(w.time, s.time);

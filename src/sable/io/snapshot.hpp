@@ -26,6 +26,7 @@
 //   /neighbors/pairs/{i,j [P] uint32, shear,force [P x D]}
 //   /neighbors/wall_pairs/{i,wall [Q] uint32, shear,force [Q x D]}, element, feature [Q]
 //   uint32 (optional: 0 without meshes); /neighbors/wall_ref_turn as orientations (optional)
+//   /neighbors/wall_reach [W] double (optional: the whole skin for every wall)
 // Writes go to a temporary file renamed over the target, so an interrupted write never
 // replaces a good snapshot with a broken one.
 #pragma once

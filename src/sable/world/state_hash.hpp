@@ -94,6 +94,7 @@ std::uint64_t state_hash(const World<D>& w) {
                   [](const auto& wall) { return wall.is_mesh(); })) {
     hash_dense(h, nl.wall_pairs.element);  // only with a mesh wall (0 for other shapes)
     hash_dense(h, nl.wall_pairs.feature);
+    hash_dense(h, nl.wall_reach);  // a still mesh's half reach (NeighborList::list_reach)
   }
   if (nl.rolling) {  // only with rolling resistance: other runs hash as they always did
     hash_dense(h, nl.pairs.roll);
