@@ -53,7 +53,7 @@ for t in "${targets[@]}"; do
   seed "$t" tests/fuzz/corpus/"$t"/* tests/fuzz/regressions/"$t"/*
   case "$t" in
     scenario) seed "$t" examples/*.toml examples/*/*.toml ;;
-    fc3d) seed "$t" $(find ../shared/data/fc3d -name '*.dat' -size -17k 2>/dev/null) ;;
+    fc3d) seed "$t" $(find ../shared/data/fc3d ../shared/data/fc2d -name '*.dat' -size -17k 2>/dev/null) ;;
   esac
   args=(-max_total_time="$seconds" -max_len="${max_len[$t]}" -timeout=10 -rss_limit_mb=2048
         -print_final_stats=1 -artifact_prefix="build/fuzz/crashes/$t/")

@@ -16,7 +16,7 @@
 #include <iostream>
 
 #include "sable/analysis/analyze.hpp"
-#include "sable/cd/fc3d.hpp"
+#include "sable/cd/fc_problem.hpp"
 #include "sable/contact/registry.hpp"
 #include "sable/core/error.hpp"
 #include "sable/io/snapshot.hpp"
@@ -124,6 +124,8 @@ struct Fc3dOptions {
   int max_iterations = 1000;
   double relaxation = 1.0;
   std::uint64_t seed = 1;
+  int stagnation_window = sable::cd::NlgsSettings{}.stagnation_window;
+  int newton_iterations = 100;
 };
 
 int cmd_fc3d(const std::string& file, const Fc3dOptions& o) {
@@ -136,11 +138,20 @@ int cmd_fc3d(const std::string& file, const Fc3dOptions& o) {
   if (!(o.relaxation > 0.0 && o.relaxation < 2.0))
     throw sable::InputError(fmt::format("--relaxation {}: expected 0 < w < 2", o.relaxation));
   s.relaxation = o.relaxation;
-  const sable::cd::Fc3dReport r = sable::cd::solve_fc3d(file, s, o.seed);
+  s.stagnation_window = o.stagnation_window;
+  const sable::cd::FcReport r = sable::cd::solve_fc(file, s, o.seed, o.newton_iterations);
   std::cout << fmt::format(
-      "{}\n  contacts    {}\n  local       {}\n  order       {}\n  iterations  {}{}\n"
-      "  residual    {:.3e}\n  time        {:.6f} s\n",
-      file, r.contacts, o.local, o.order, r.iterations,
+      "{}\n  dimension   {}\n  contacts    {}\n  local       {}\n  order       {}{}\n"
+      "  iterations  {}{}{}\n  residual    {:.3e}\n  time        {:.6f} s\n",
+      file, r.dimension, r.contacts, o.local, o.order,
+      r.reordered_at < 0 ? ""
+                         : fmt::format(", shuffled from sweep {} (stagnating)", r.reordered_at + 1),
+      r.iterations,
+      r.newton_iterations == 0
+          ? ""
+          : fmt::format(" NLGS sweeps{}, then {} Newton steps{}",
+                        r.stagnated ? " (stagnating)" : "", r.newton_iterations,
+                        r.newton_restarted ? " (restarted from r = 0)" : ""),
       r.converged ? "" : fmt::format(" (not converged to {:g})", o.tolerance), r.residual,
       r.seconds);
   if (!std::isfinite(r.residual)) {
@@ -289,8 +300,9 @@ int main(int argc, char** argv) {
   auto* analyze = add_analyze(app, analyze_opt);
   auto* models = app.add_subcommand("models", "list the contact sub-models");
   Fc3dOptions fc3d_opt;
-  auto* fc3d = app.add_subcommand("fc3d", "solve a Siconos frictional-contact problem (.dat)");
-  fc3d->add_option("FILE", file, "problem file (.dat)")->required();
+  auto* fc3d = app.add_subcommand(
+      "fc3d", "solve a frictional-contact problem, 2D or 3D (Siconos .dat, FCLIB .hdf5)");
+  fc3d->add_option("FILE", file, "problem file (.dat or FCLIB HDF5)")->required();
   fc3d->add_option("--local", fc3d_opt.local, "local solver")
       ->check(CLI::IsMember({"bipotential", "exact"}));
   fc3d->add_option("--tolerance", fc3d_opt.tolerance, "natural-map residual to reach")
@@ -301,6 +313,13 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"forward", "alternating", "shuffled"}));
   fc3d->add_option("--relaxation", fc3d_opt.relaxation, "relaxation w, 0 < w < 2");
   fc3d->add_option("--seed", fc3d_opt.seed, "random seed of the shuffled order");
+  fc3d->add_option("--stagnation-window", fc3d_opt.stagnation_window,
+                   "sweeps without the residual halving before the order turns shuffled (0: "
+                   "never)")
+      ->check(CLI::NonNegativeNumber);
+  fc3d->add_option("--newton-iterations", fc3d_opt.newton_iterations,
+                   "semismooth Newton steps at most where the NLGS stops short (0: none)")
+      ->check(CLI::NonNegativeNumber);
 
   // CLI11 quotes the value it refuses: clipped like every other quote of an input.
   app.failure_message([](const CLI::App*, const CLI::Error& e) {

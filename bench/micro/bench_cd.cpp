@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "sable/cd/fc3d.hpp"
+#include "sable/cd/fc_problem.hpp"
 
 namespace {
 
@@ -30,7 +30,7 @@ void BM_NlgsSweepCapsules(benchmark::State& state) {
     state.SkipWithError(("missing " + file.string()).c_str());
     return;
   }
-  sable::cd::MatrixProblem p = sable::cd::read_fc3d(file.string());
+  sable::cd::MatrixProblem<3> p = sable::cd::read_fc3d(file.string());
   sable::cd::NlgsSettings s;
   s.local =
       state.range(0) == 0 ? sable::cd::LocalSolver::kBipotential : sable::cd::LocalSolver::kExact;

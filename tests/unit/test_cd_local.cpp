@@ -10,7 +10,7 @@
 #include <cstring>
 #include <vector>
 
-#include "sable/cd/fc3d.hpp"
+#include "sable/cd/fc_problem.hpp"
 #include "sable/cd/nlgs.hpp"
 
 namespace {
@@ -428,7 +428,7 @@ TEST(CdNlgs, MatrixProblemMatchesDense) {
     row_ptr.push_back(cols.size());
     q.push_back(dense.qf.segment<3>(3 * a));
   }
-  MatrixProblem mp(row_ptr, cols, blocks, q, dense.mus);
+  MatrixProblem<3> mp(row_ptr, cols, blocks, q, dense.mus);
   NlgsSettings s;
   s.tolerance = 1e-12;
   Rng r1(1), r2(1);
@@ -436,7 +436,7 @@ TEST(CdNlgs, MatrixProblemMatchesDense) {
   solve_nlgs<3>(mp, s, r2);
   for (std::size_t a = 0; a < 6; ++a)
     EXPECT_LE((mp.r(a) - dense.r(a)).norm(), 1e-12 * (1.0 + mp.r(a).norm()));
-  EXPECT_NEAR(fc3d_residual(mp), natural_map_error<3>(mp), 1e-15);
+  EXPECT_NEAR(fc_residual<3>(mp), natural_map_error<3>(mp), 1e-15);
 }
 
 }  // namespace

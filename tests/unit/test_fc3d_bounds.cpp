@@ -6,14 +6,14 @@
 
 #include <string>
 
-#include "sable/cd/fc3d.hpp"
+#include "sable/cd/fc_problem.hpp"
 #include "sable/core/error.hpp"
 
 namespace {
 
 std::string error_of(const std::string& text) {
   try {
-    sable::cd::parse_fc3d(text, "crafted.dat");
+    sable::cd::parse_fc_dat(text, "crafted.dat");
   } catch (const sable::InputError& e) {
     return e.what();
   }

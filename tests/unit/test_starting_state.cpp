@@ -10,7 +10,7 @@
 #include <string>
 
 #include "sable/cd/cd_solver.hpp"
-#include "sable/cd/fc3d.hpp"
+#include "sable/cd/fc_problem.hpp"
 #include "sable/cd/nlgs.hpp"
 #include "sable/core/error.hpp"
 #include "sable/scenario/build.hpp"
@@ -234,7 +234,7 @@ TEST(StartingState, RigidWallWithoutFrictionWarnsOnce) {
 // The NLGS stops at the first sweep whose residual is not finite, instead of sweeping to its cap
 // (each sweep over NaNs costs hundreds of normal ones).
 TEST(StartingState, NlgsStopsOnANonFiniteResidual) {
-  using sable::cd::MatrixProblem;
+  using MatrixProblem = sable::cd::MatrixProblem<3>;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   MatrixProblem p({0, 1}, {0}, {2.0 * MatrixProblem::Mat::Identity()},
                   {MatrixProblem::Vec(-1.0, nan, 0.0)}, {0.5});

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "../unit/test_data.hpp"
-#include "sable/cd/fc3d.hpp"
+#include "sable/cd/fc_problem.hpp"
 #include "sable/core/error.hpp"
 
 namespace {
@@ -88,7 +88,7 @@ double independent_error(const DenseFc3d& p, const Eigen::VectorXd& r) {
   return std::sqrt(f2) / std::max({p.q.norm(), r.norm(), U.norm()});
 }
 
-Eigen::VectorXd reactions(const MatrixProblem& p) {
+Eigen::VectorXd reactions(const MatrixProblem<3>& p) {
   Eigen::VectorXd r(3 * static_cast<Eigen::Index>(p.size()));
   for (std::size_t a = 0; a < p.size(); ++a)
     r.segment<3>(3 * static_cast<Eigen::Index>(a)) = p.r(a);
@@ -115,7 +115,7 @@ TEST_P(Fc3dProblem, SolvedByBothLocalSolvers) {
   const DenseFc3d ref = read_dense(file_);
   for (const auto kind : {LocalSolver::kExact, LocalSolver::kBipotential}) {
     SCOPED_TRACE(std::string(to_string(kind)));
-    MatrixProblem p = read_fc3d(file_.string());
+    MatrixProblem<3> p = read_fc3d(file_.string());
     ASSERT_EQ(static_cast<Eigen::Index>(3 * p.size()), ref.q.size());
     NlgsSettings s;
     s.local = kind;
@@ -129,7 +129,7 @@ TEST_P(Fc3dProblem, SolvedByBothLocalSolvers) {
     EXPECT_TRUE(res.converged);
     EXPECT_LE(e, 1e-6);
     EXPECT_NEAR(e, res.residual, 1e-12);
-    EXPECT_NEAR(fc3d_residual(p), res.residual, 1e-12);
+    EXPECT_NEAR(fc_residual<3>(p), res.residual, 1e-12);
   }
 }
 
@@ -137,7 +137,7 @@ TEST_P(Fc3dProblem, SolvedByBothLocalSolvers) {
 TEST_P(Fc3dProblem, OtherOrdersConverge) {
   const DenseFc3d ref = read_dense(file_);
   for (const auto order : {SweepOrder::kAlternating, SweepOrder::kShuffled}) {
-    MatrixProblem p = read_fc3d(file_.string());
+    MatrixProblem<3> p = read_fc3d(file_.string());
     NlgsSettings s;
     s.local = LocalSolver::kExact;
     s.order = order;
@@ -155,7 +155,7 @@ TEST_P(Fc3dProblem, ShuffledIsDeterministic) {
   s.order = SweepOrder::kShuffled;
   s.tolerance = 1e-8;
   s.max_iterations = 50;
-  MatrixProblem a = read_fc3d(file_.string()), b = read_fc3d(file_.string());
+  MatrixProblem<3> a = read_fc3d(file_.string()), b = read_fc3d(file_.string());
   sable::Rng ra(2024), rb(2024);
   solve_nlgs<3>(a, s, ra);
   solve_nlgs<3>(b, s, rb);
@@ -175,13 +175,13 @@ INSTANTIATE_TEST_SUITE_P(Siconos, Fc3dProblem,
                            return n;
                          });
 
-// solve_fc3d: the driver reports the contacts and a residual below the tolerance.
+// solve_fc: the driver reports the contacts and a residual below the tolerance.
 TEST(Fc3dDriver, SolveReport) {
   SABLE_NEEDS(fs::is_directory(kDataDir), kDataDir << " does not exist");
   NlgsSettings s;
   s.tolerance = 1e-6;
   s.local = LocalSolver::kExact;
-  const Fc3dReport r = solve_fc3d((kDataDir / "Rover4609.dat").string(), s);
+  const FcReport r = solve_fc((kDataDir / "Rover4609.dat").string(), s);
   EXPECT_EQ(r.contacts, 5u);
   EXPECT_TRUE(r.converged);
   EXPECT_LE(r.residual, 1e-6);
@@ -231,7 +231,7 @@ class Fc3dBadInput : public testing::Test {
 TEST_F(Fc3dBadInput, ValidSmallProblemReads) {
   const fs::path f = dir_ / "ok.dat";
   std::ofstream(f) << small_problem();
-  const MatrixProblem p = read_fc3d(f.string());
+  const MatrixProblem<3> p = read_fc3d(f.string());
   EXPECT_EQ(p.size(), 2u);
   EXPECT_EQ(p.blocks().size(), 2u);  // the zero off-diagonal blocks are dropped
 }
@@ -261,10 +261,13 @@ TEST_F(Fc3dBadInput, NonSquareAndWrongSize) {
   t = small_problem();
   t.replace(t.find("6\n6\n6 6"), 7, "9\n9\n9 9");
   expect_error(t, "matrix size 9 does not match d * nc = 3 * 2 = 6");
-  expect_error("2\n2\n0\n4\n4\n", "dimension d = 2");
+  expect_error("4\n2\n0\n8\n8\n", "dimension d = 4: expected 2 or 3");
 }
-TEST_F(Fc3dBadInput, NonSymmetricDiagonalBlock) {
-  expect_error(small_problem("0.5"), "diagonal block of contact 0 is not symmetric");
+TEST_F(Fc3dBadInput, DiagonalBlockNotSemiDefinite) {
+  // W(0, 1) = 5 beside a diagonal of 2: the symmetric part has eigenvalue 2 - 2.5 < 0.
+  expect_error(small_problem("5"),
+               "contact 0: the symmetric part of its diagonal block is not "
+               "positive semi-definite");
 }
 TEST_F(Fc3dBadInput, TrailingData) {
   expect_error(small_problem() + "1 2 3\n", "unexpected data after the friction coefficients");

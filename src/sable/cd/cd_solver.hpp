@@ -33,7 +33,11 @@ namespace sable {
 
 struct CdSettings {
   double theta = 0.5;  // weight of the end-of-step smooth forces in the free velocity
-  cd::NlgsSettings nlgs;
+  // The grains' sweep keeps its order: it follows the neighbour list, sorted by cell, along
+  // which a packing's impulses propagate; a shuffled sweep converges far worse there
+  // (docs/BENCHMARKS.md, BM_CdStepOrder: 3-9 times slower at a fixed number of sweeps with
+  // scrambled slots), so the stagnation switch to a shuffled order is off.
+  cd::NlgsSettings nlgs = {.stagnation_window = 0};
   bool warm_start = true;
 };
 

@@ -1,47 +1,17 @@
-// Siconos .dat frictional-contact problems: reader, block-sparse problem, solve driver.
-#include "sable/cd/fc3d.hpp"
-
+// Siconos .dat frictional-contact problems (shared/data/fc3d/README.md), 2D and 3D: dense,
+// sparse-block and CSparse (cs_print of a compressed-column matrix) storage.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <charconv>
-#include <chrono>
 #include <cmath>
-#include <fstream>
 #include <limits>
-#include <sstream>
-#include <stdexcept>
 #include <utility>
 
+#include "sable/cd/fc_problem.hpp"
 #include "sable/core/error.hpp"
 
 namespace sable::cd {
-
-MatrixProblem::MatrixProblem(std::vector<std::size_t> row_ptr, std::vector<std::size_t> cols,
-                             std::vector<Mat> blocks, std::vector<Vec> q, std::vector<double> mu)
-    : row_ptr_(std::move(row_ptr)),
-      cols_(std::move(cols)),
-      blocks_(std::move(blocks)),
-      q_(std::move(q)),
-      mu_(std::move(mu)) {
-  const std::size_t n = q_.size();
-  if (mu_.size() != n || row_ptr_.size() != n + 1 || row_ptr_.front() != 0 ||
-      row_ptr_.back() != cols_.size() || blocks_.size() != cols_.size())
-    throw std::invalid_argument("MatrixProblem: inconsistent sizes");
-  diag_.assign(n, cols_.size());
-  for (std::size_t a = 0; a < n; ++a) {
-    if (row_ptr_[a] > row_ptr_[a + 1]) throw std::invalid_argument("MatrixProblem: row_ptr");
-    for (std::size_t k = row_ptr_[a]; k < row_ptr_[a + 1]; ++k) {
-      if (cols_[k] >= n) throw std::invalid_argument("MatrixProblem: column out of range");
-      if (cols_[k] == a) diag_[a] = k;
-    }
-    if (diag_[a] == cols_.size()) throw std::invalid_argument("MatrixProblem: no diagonal block");
-  }
-  double q2 = 0.0;
-  for (const Vec& v : q_) q2 += v.squaredNorm();
-  q_norm_ = std::sqrt(q2);
-  r_.assign(n, Vec::Zero());
-}
 
 namespace {
 
@@ -71,6 +41,22 @@ class Tokens {
     if (ec != std::errc() || p != t.data() + t.size())
       fail_here(fmt::format("expected {} (an integer), found '{}'", what, shown(t)));
     return v;
+  }
+  // The next token as it is (the words of CSparse's printout).
+  std::string_view word(std::string_view what) {
+    if (remaining() == 0) fail(fmt::format("expected {}, found the end of the file", what));
+    return take();
+  }
+  void expect(std::string_view w, std::string_view what) {
+    const std::string_view t = word(what);
+    if (t != w) fail_here(fmt::format("expected '{}' ({}), found '{}'", w, what, shown(t)));
+  }
+  // An integer in [0, hi), as integer() reads it.
+  std::size_t index(std::string_view what, std::size_t hi) {
+    const long long v = integer(what);
+    if (v < 0 || static_cast<unsigned long long>(v) >= hi)
+      fail_here(fmt::format("{} = {} out of range [0, {})", what, v, hi));
+    return static_cast<std::size_t>(v);
   }
   // `count` finite numbers of `what` into out[0..count).
   void numbers(std::size_t count, std::string_view what, double* out) {
@@ -122,6 +108,8 @@ class Tokens {
     ++read_;
     return next_token(pos_, &line_);
   }
+
+ public:
   // A token as quoted in messages: at most 40 characters, non-printable bytes as '?'.
   static std::string shown(std::string_view t) {
     std::string s(t.substr(0, 40));
@@ -129,6 +117,8 @@ class Tokens {
       if (c < 0x20 || c > 0x7e) c = '?';
     return t.size() <= 40 ? s : s + "...";
   }
+
+ private:
   double number(std::size_t k, std::string_view what) {
     const std::string_view token = take();
     std::string_view t = token;
@@ -147,30 +137,22 @@ class Tokens {
   std::size_t line_ = 1;  // the line of the last token read
 };
 
-using Mat3 = MatrixProblem::Mat;
-using Vec3 = MatrixProblem::Vec;
-
-struct BlockCsr {
-  std::vector<std::size_t> row_ptr{0};
-  std::vector<std::size_t> cols;
-  std::vector<Mat3> blocks;
-};
-
-// Dense storage: "size0 size1" again, then size0*size1 values in column-major order. Keeps the
-// non-zero 3x3 blocks and every diagonal block.
-BlockCsr read_dense(Tokens& t, std::size_t nc) {
-  const std::size_t n = 3 * nc;
+// Dense storage: "size0 size1" again, then size0*size1 values in column-major order. Keeps
+// the non-zero d x d blocks and every diagonal block.
+template <int d>
+BlockCsr<d> read_dense(Tokens& t, std::size_t nc) {
+  const std::size_t n = d * nc;
   const long long s0 = t.integer("the number of rows of the dense matrix");
   const long long s1 = t.integer("the number of columns of the dense matrix");
   if (s0 != static_cast<long long>(n) || s1 != static_cast<long long>(n))
     t.fail_here(fmt::format("dense matrix declared {} x {}, expected {} x {}", s0, s1, n, n));
   const std::vector<double> v = t.numbers(n * n, "the dense matrix W");
-  BlockCsr m;
+  BlockCsr<d> m;
   for (std::size_t I = 0; I < nc; ++I) {
     for (std::size_t J = 0; J < nc; ++J) {
-      Mat3 B;
-      for (int c = 0; c < 3; ++c)
-        for (int r = 0; r < 3; ++r) B(r, c) = v[(3 * J + c) * n + 3 * I + r];
+      LMat<d> B;
+      for (int c = 0; c < d; ++c)
+        for (int r = 0; r < d; ++r) B(r, c) = v[(d * J + c) * n + d * I + r];
       if (I != J && B.isZero(0.0)) continue;
       m.cols.push_back(J);
       m.blocks.push_back(B);
@@ -181,7 +163,8 @@ BlockCsr read_dense(Tokens& t, std::size_t nc) {
 }
 
 // Sparse-block storage, part 1: block counts, block sizes, row pointers, column indices.
-BlockCsr read_sparse_structure(Tokens& t, std::size_t nc) {
+template <int d>
+BlockCsr<d> read_sparse_structure(Tokens& t, std::size_t nc) {
   const long long nb = t.integer("the number of blocks");
   const long long nbr = t.integer("the number of block rows");
   const long long nbc = t.integer("the number of block columns");
@@ -192,9 +175,9 @@ BlockCsr read_sparse_structure(Tokens& t, std::size_t nc) {
   for (const char* what : {"row", "column"}) {
     for (std::size_t i = 0; i < nc; ++i) {
       const long long end = t.integer(fmt::format("the end of block {} {}", what, i));
-      if (end != 3 * static_cast<long long>(i + 1))
-        t.fail_here(fmt::format("block {} {} ends at {}, expected {} (3x3 blocks)", what, i, end,
-                                3 * (i + 1)));
+      if (end != d * static_cast<long long>(i + 1))
+        t.fail_here(fmt::format("block {} {} ends at {}, expected {} ({}x{} blocks)", what, i, end,
+                                d * (i + 1), d, d));
     }
   }
   const long long filled1 = t.integer("the number of row pointers (filled1)");
@@ -202,7 +185,7 @@ BlockCsr read_sparse_structure(Tokens& t, std::size_t nc) {
   if (filled1 != nbr + 1 || filled2 != nb)
     t.fail_here(fmt::format("filled1 = {}, filled2 = {}; expected {} and {}", filled1, filled2,
                             nbr + 1, nb));
-  BlockCsr m;
+  BlockCsr<d> m;
   m.row_ptr.clear();
   for (std::size_t i = 0; i <= nc; ++i) {
     const long long p = t.integer(fmt::format("row pointer {}", i));
@@ -220,10 +203,11 @@ BlockCsr read_sparse_structure(Tokens& t, std::size_t nc) {
   return m;
 }
 
-// Sparse-block storage, part 2: each block as its index then 9 values (column-major 3x3).
-void read_sparse_blocks(Tokens& t, BlockCsr& m) {
+// Sparse-block storage, part 2: each block as its index then d*d values (column-major).
+template <int d>
+void read_sparse_blocks(Tokens& t, BlockCsr<d>& m) {
   const std::size_t nb = m.cols.size();
-  m.blocks.assign(nb, Mat3::Zero());
+  m.blocks.assign(nb, LMat<d>::Zero());
   std::vector<bool> seen(nb, false);
   for (std::size_t k = 0; k < nb; ++k) {
     const long long idx = t.integer(fmt::format("the index of block {} of {}", k + 1, nb));
@@ -232,117 +216,127 @@ void read_sparse_blocks(Tokens& t, BlockCsr& m) {
     const auto i = static_cast<std::size_t>(idx);
     if (seen[i]) t.fail_here(fmt::format("block index {} appears twice", idx));
     seen[i] = true;
-    t.numbers(9, fmt::format("block {}", idx), m.blocks[i].data());
+    t.numbers(d * d, fmt::format("block {}", idx), m.blocks[i].data());
   }
 }
 
-// Every contact has a symmetric diagonal block with W_NN > 0; no block column twice in a row.
-void check_blocks(const Tokens& t, const BlockCsr& m, std::size_t nc) {
-  std::vector<std::size_t> last_row(nc, nc);  // the last block row that held each column
-  for (std::size_t a = 0; a < nc; ++a) {
-    const Mat3* diag = nullptr;
-    for (std::size_t k = m.row_ptr[a]; k < m.row_ptr[a + 1]; ++k) {
-      if (last_row[m.cols[k]] == a)
-        t.fail(fmt::format("block row {} holds block column {} twice", a, m.cols[k]));
-      last_row[m.cols[k]] = a;
-      if (m.cols[k] == a) diag = &m.blocks[k];
+// "M-by-N," as CSparse prints a matrix's size: M and N.
+std::pair<long long, long long> read_size(Tokens& t, std::string_view token) {
+  const std::size_t at = token.find("-by-");
+  std::string_view rows = token.substr(0, at), cols = token.substr(at + 4);
+  if (!cols.empty() && cols.back() == ',') cols.remove_suffix(1);
+  long long m = -1, n = -1;
+  const auto [pr, er] = std::from_chars(rows.data(), rows.data() + rows.size(), m);
+  const auto [pc, ec] = std::from_chars(cols.data(), cols.data() + cols.size(), n);
+  if (er != std::errc() || ec != std::errc() || pr != rows.data() + rows.size() ||
+      pc != cols.data() + cols.size())
+    t.fail_here(
+        fmt::format("expected the matrix size 'M-by-N,', found '{}'", Tokens::shown(token)));
+  return {m, n};
+}
+
+// CSparse storage (storage 2): Siconos writes its sparse matrix's own storage (2, compressed
+// columns, the only one read), then CSparse's cs_print: a banner, "M-by-N, nzmax: Z nnz: Z,
+// 1-norm: X", and for each column j "col j : locations a to b" followed by its b - a + 1
+// entries "row : value". cs_print writes "%g": values to 6 digits (the problem is the file's),
+// indices exactly below 10^6 (larger ones would not read as integers: refused).
+template <int d>
+BlockCsr<d> read_csparse(Tokens& t, std::size_t nc) {
+  const std::size_t n = d * nc;
+  const long long kind = t.integer("the sparse storage (2: compressed columns)");
+  if (kind != 2)
+    t.fail_here(fmt::format("sparse storage {} not supported (2: compressed columns)", kind));
+  std::string_view size_token;
+  for (int k = 0; k < 64 && size_token.empty(); ++k) {
+    const std::string_view w = t.word("CSparse's banner and the matrix size 'M-by-N,'");
+    if (w.find("-by-") != std::string_view::npos) size_token = w;
+  }
+  if (size_token.empty()) t.fail_here("expected the matrix size 'M-by-N,' after CSparse's banner");
+  const auto [m_rows, m_cols] = read_size(t, size_token);
+  if (m_rows != static_cast<long long>(n) || m_cols != static_cast<long long>(n))
+    t.fail_here(fmt::format("matrix {} x {}, expected {} x {}", m_rows, m_cols, n, n));
+  t.expect("nzmax:", "CSparse's 'nzmax: Z'");
+  t.integer("nzmax");
+  t.expect("nnz:", "CSparse's 'nnz: Z,'");
+  const std::string_view nnz_token = t.word("the number of entries");
+  t.expect("1-norm:", "CSparse's '1-norm: X'");
+  t.word("the 1-norm");
+  std::vector<MatrixEntry> entries;
+  for (std::size_t j = 0; j < n; ++j) {
+    t.expect("col", fmt::format("column {}", j));
+    if (t.index(fmt::format("the number of column {}", j), n + 1) != j)
+      t.fail_here(fmt::format("expected column {} here (columns in order)", j));
+    t.expect(":", "':' after the column number");
+    t.expect("locations", "'locations a to b'");
+    const long long a = t.integer("the column's first location");
+    t.expect("to", "'locations a to b'");
+    const long long b = t.integer("the column's last location");
+    if (a != static_cast<long long>(entries.size()) || b < a - 1 ||
+        static_cast<unsigned long long>(b - a + 1) > t.remaining() / 3)
+      t.fail_here(
+          fmt::format("column {}: locations {} to {} (expected to start at {}, and no more "
+                      "entries than the file holds)",
+                      j, a, b, entries.size()));
+    for (long long k = a; k <= b; ++k) {
+      const std::size_t row = t.index(fmt::format("the row of entry {}", k), n);
+      t.expect(":", "':' between an entry's row and value");
+      double v = 0.0;
+      t.numbers(1, fmt::format("entry {}", k), &v);
+      entries.push_back({row, j, v});
     }
-    if (diag == nullptr) t.fail(fmt::format("contact {} has no diagonal block W_{}{}", a, a, a));
-    const double scale = diag->cwiseAbs().maxCoeff();
-    const double asym = (*diag - diag->transpose()).cwiseAbs().maxCoeff();
-    if (asym > kFc3dSymmetryTolerance * scale)
-      t.fail(
-          fmt::format("the diagonal block of contact {} is not symmetric (relative asymmetry "
-                      "{:.3g} > {:g})",
-                      a, asym / scale, kFc3dSymmetryTolerance));
-    if (!((*diag)(0, 0) > 0.0))
-      t.fail(fmt::format("contact {}: W_NN = {} in its diagonal block, expected > 0", a,
-                         (*diag)(0, 0)));
   }
+  std::string_view nnz = nnz_token;
+  if (!nnz.empty() && nnz.back() == ',') nnz.remove_suffix(1);
+  if (nnz != std::to_string(entries.size()))
+    t.fail(fmt::format("CSparse's header says nnz {}, the columns hold {} entries",
+                       Tokens::shown(nnz), entries.size()));
+  return blocks_from_entries<d>(std::move(entries), nc);
 }
 
-}  // namespace
-
-MatrixProblem parse_fc3d(std::string_view text, const std::string& name) {
-  Tokens t(text, name);
-  const long long d = t.integer("the dimension d");
-  if (d != 3) t.fail_here(fmt::format("dimension d = {}: only 3D problems (d = 3) are read", d));
+template <int d>
+MatrixProblem<d> parse_dimension(Tokens& t) {
   const long long nc_in = t.integer("the number of contacts");
   if (nc_in < 0 || nc_in > 100'000'000)
     t.fail_here(fmt::format("number of contacts {} out of range", nc_in));
   const auto nc = static_cast<std::size_t>(nc_in);
   const long long storage = t.integer("the storage type");
-  if (storage != 0 && storage != 1)
-    t.fail_here(fmt::format("storage type {} not supported (0 dense, 1 sparse-block)", storage));
+  if (storage < 0 || storage > 2)
+    t.fail_here(
+        fmt::format("storage type {} not supported (0 dense, 1 sparse-block, 2 sparse)", storage));
   const long long s0 = t.integer("the number of rows (size0)");
   const long long s1 = t.integer("the number of columns (size1)");
   if (s0 != s1) t.fail_here(fmt::format("non-square matrix {} x {}", s0, s1));
-  if (s0 != 3 * nc_in)
-    t.fail_here(fmt::format("matrix size {} does not match d * nc = 3 * {} = {}", s0, nc, 3 * nc));
-  BlockCsr m;
+  if (s0 != d * nc_in)
+    t.fail_here(
+        fmt::format("matrix size {} does not match d * nc = {} * {} = {}", s0, d, nc, d * nc));
+  BlockCsr<d> m;
   if (storage == 0) {
-    m = read_dense(t, nc);
+    m = read_dense<d>(t, nc);
+  } else if (storage == 1) {
+    m = read_sparse_structure<d>(t, nc);
+    read_sparse_blocks<d>(t, m);
   } else {
-    m = read_sparse_structure(t, nc);
-    read_sparse_blocks(t, m);
+    m = read_csparse<d>(t, nc);
   }
-  check_blocks(t, m, nc);
-  const std::vector<double> qv = t.numbers(3 * nc, "q");
+  const auto fail = [&t](const std::string& msg) { t.fail(msg); };
+  check_blocks<d>(m, nc, fail);
+  const std::vector<double> q = t.numbers(d * nc, "q");
   std::vector<double> mu = t.numbers(nc, "the friction coefficients mu");
-  std::vector<Vec3> q(nc);
-  for (std::size_t a = 0; a < nc; ++a) q[a] = Vec3(qv[3 * a], qv[3 * a + 1], qv[3 * a + 2]);
   for (std::size_t a = 0; a < nc; ++a)
     if (mu[a] < 0.0)
       t.fail(fmt::format("negative friction coefficient mu = {} at contact {}", mu[a], a));
   t.expect_end();
-  return MatrixProblem(std::move(m.row_ptr), std::move(m.cols), std::move(m.blocks), std::move(q),
-                       std::move(mu));
+  return make_problem<d>(std::move(m), q, std::move(mu), fail);
 }
 
-MatrixProblem read_fc3d(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(clip(path) + ": cannot open the file");  // any command-line text
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(path + ": read error");
-  return parse_fc3d(ss.str(), path);
-}
+}  // namespace
 
-double fc3d_residual(const MatrixProblem& p) {
-  const std::size_t n = p.size();
-  std::vector<Vec3> U(p.q().begin(), p.q().end());
-  const auto rp = p.row_ptr();
-  const auto cols = p.cols();
-  const auto blocks = p.blocks();
-  const auto r = p.reactions();
-  for (std::size_t a = 0; a < n; ++a)
-    for (std::size_t k = rp[a]; k < rp[a + 1]; ++k) U[a] += blocks[k] * r[cols[k]];
-  double f2 = 0.0, r2 = 0.0, u2 = 0.0, q2 = 0.0;
-  for (std::size_t a = 0; a < n; ++a) {
-    f2 += natural_map<3>(r[a], U[a], p.mu(a)).squaredNorm();
-    r2 += r[a].squaredNorm();
-    u2 += U[a].squaredNorm();
-    q2 += p.q()[a].squaredNorm();
-  }
-  const double den = std::sqrt(std::max({q2, r2, u2}));
-  if (f2 == 0.0) return 0.0;
-  return den > 0.0 ? std::sqrt(f2) / den : std::numeric_limits<double>::infinity();
-}
-
-Fc3dReport solve_fc3d(const std::string& path, const NlgsSettings& s, std::uint64_t seed) {
-  MatrixProblem p = read_fc3d(path);
-  Rng rng(seed);
-  const auto t0 = std::chrono::steady_clock::now();
-  const NlgsResult res = solve_nlgs<3>(p, s, rng);
-  const auto t1 = std::chrono::steady_clock::now();
-  Fc3dReport rep;
-  rep.contacts = p.size();
-  rep.iterations = res.iterations;
-  rep.error = res.error;
-  rep.converged = res.converged;
-  rep.seconds = std::chrono::duration<double>(t1 - t0).count();
-  rep.residual = fc3d_residual(p);
-  return rep;
+FcProblem parse_fc_dat(std::string_view text, const std::string& name) {
+  Tokens t(text, name);
+  const long long d = t.integer("the dimension d");
+  if (d == 2) return parse_dimension<2>(t);
+  if (d != 3) t.fail_here(fmt::format("dimension d = {}: expected 2 or 3", d));
+  return parse_dimension<3>(t);
 }
 
 }  // namespace sable::cd

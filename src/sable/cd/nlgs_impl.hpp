@@ -154,8 +154,11 @@ NlgsResult solve_nlgs(Problem& problem, const NlgsSettings& s, Rng& rng) {
     for (std::size_t a = 0; a < n; ++a) last_u[a] = problem.velocity(a);
   }
   bool error_is_residual = false;
+  SweepOrder sweep_order = s.order;
+  double checkpoint = 0.0;  // the error after sweep checkpoint_at (the first, then each window's)
+  int checkpoint_at = 1;
   for (int k = 0; k < s.max_iterations; ++k) {
-    fill_sweep_order(order, s.order, k, rng);
+    fill_sweep_order(order, sweep_order, k, rng);
     const SweepStats st = nlgs_sweep<d>(problem, order, s, std::span<LVec<d>>(last_u));
     res.iterations = k + 1;
     error_is_residual = s.criterion == Criterion::kNatural;
@@ -170,6 +173,19 @@ NlgsResult solve_nlgs(Problem& problem, const NlgsSettings& s, Rng& rng) {
     // An infinite sweep criterion (Quad, Maxm) can be a normal event (every U reaching 0 at
     // once); an infinite natural-map residual cannot.
     if (std::isnan(res.error) || (error_is_residual && std::isinf(res.error))) break;
+    if (k == 0) checkpoint = res.error;
+    if (s.stagnation_window > 0 && k + 1 - checkpoint_at >= s.stagnation_window) {
+      if (res.error > 0.9 * checkpoint) {
+        if (sweep_order == SweepOrder::kShuffled && s.stop_on_stagnation) {
+          res.stagnated = true;
+          break;
+        }
+        if (sweep_order != SweepOrder::kShuffled) res.reordered_at = k + 1;
+        sweep_order = SweepOrder::kShuffled;
+      }
+      checkpoint = res.error;
+      checkpoint_at = k + 1;
+    }
   }
   res.residual = error_is_residual ? res.error : natural_map_error<d>(problem);
   if (res.iterations == 0) {  // max_iterations <= 0: report the state as it is
