@@ -19,6 +19,7 @@
 #include "sable/cd/fc_problem.hpp"
 #include "sable/contact/registry.hpp"
 #include "sable/core/error.hpp"
+#include "sable/io/atomic_file.hpp"
 #include "sable/io/snapshot.hpp"
 #include "sable/scenario/config.hpp"
 #include "sable/scenario/runner.hpp"
@@ -126,6 +127,7 @@ struct Fc3dOptions {
   std::uint64_t seed = 1;
   int stagnation_window = sable::cd::NlgsSettings{}.stagnation_window;
   int newton_iterations = 100;
+  std::string reactions;  // file for the solution (empty: none)
 };
 
 int cmd_fc3d(const std::string& file, const Fc3dOptions& o) {
@@ -154,6 +156,15 @@ int cmd_fc3d(const std::string& file, const Fc3dOptions& o) {
                         r.newton_restarted ? " (restarted from r = 0)" : ""),
       r.converged ? "" : fmt::format(" (not converged to {:g})", o.tolerance), r.residual,
       r.seconds);
+  if (!o.reactions.empty()) {
+    // The solution as text, one contact a line, exact to the bit (%.17g): for an independent
+    // check of the residual (bench/peers/siconos/).
+    std::string text;
+    for (std::size_t k = 0; k < r.reactions.size(); ++k)
+      text += fmt::format("{:.17g}{}", r.reactions[k],
+                          (k + 1) % static_cast<std::size_t>(r.dimension) == 0 ? "\n" : " ");
+    sable::write_text_atomic(o.reactions, text);
+  }
   if (!std::isfinite(r.residual)) {
     std::cerr << fmt::format("error: {}: the residual is {}: the problem's data is not finite\n",
                              file, r.residual);
@@ -317,6 +328,8 @@ int main(int argc, char** argv) {
                    "sweeps without the residual halving before the order turns shuffled (0: "
                    "never)")
       ->check(CLI::NonNegativeNumber);
+  fc3d->add_option("--reactions", fc3d_opt.reactions,
+                   "write the solution to this file (text, d values a contact)");
   fc3d->add_option("--newton-iterations", fc3d_opt.newton_iterations,
                    "semismooth Newton steps at most where the NLGS stops short (0: none)")
       ->check(CLI::NonNegativeNumber);

@@ -338,7 +338,19 @@ TEST(CliRules, Fc3dExitsOneWhenNotConverged) {
             1)
       << out;
   EXPECT_TRUE(has(out, "not converged")) << out;
-  EXPECT_EQ(cli("fc3d " + (dir / "p.dat").string() + " --tolerance 1e-10", out), 0) << out;
+  EXPECT_EQ(cli("fc3d " + (dir / "p.dat").string() + " --tolerance 1e-10 --reactions " +
+                    (dir / "r.txt").string(),
+                out),
+            0)
+      << out;
+  // --reactions: one line per contact, its three components. Both contacts are pressed
+  // (q_N = -1, nothing else pulling them open): r_N > 0 for each.
+  std::ifstream in(dir / "r.txt");
+  double r[6] = {};
+  for (double& v : r) in >> v;
+  EXPECT_TRUE(in) << "six values";
+  EXPECT_GT(r[0], 0.0);
+  EXPECT_GT(r[3], 0.0);
   fs::remove_all(dir);
 }
 

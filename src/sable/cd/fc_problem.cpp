@@ -210,6 +210,9 @@ FcReport solve_fc(const std::string& path, const NlgsSettings& s, std::uint64_t 
         rep.newton_restarted = restarted;
         rep.seconds = std::chrono::duration<double>(t1 - t0).count();
         rep.residual = fc_residual<d>(p);
+        rep.reactions.reserve(d * p.size());
+        for (const LVec<d>& r : p.reactions())
+          rep.reactions.insert(rep.reactions.end(), r.begin(), r.end());
         return rep;
       },
       problem);

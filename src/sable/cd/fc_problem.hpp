@@ -116,7 +116,8 @@ struct FcReport {
   bool stagnated = false;         // the NLGS stagnated (after its shuffle) and handed over
   int newton_iterations = 0;      // the semismooth Newton's (fc_newton.hpp), after the NLGS
   bool newton_restarted = false;  // Newton ran again from r = 0
-  double seconds = 0.0;           // NLGS wall time (reading the file excluded)
+  double seconds = 0.0;           // solve wall time (reading the file excluded)
+  std::vector<double> reactions;  // the solution, d values per contact ([N, T] or [N, T1, T2])
 };
 
 // Reads `path`, solves it from r = 0 with the NLGS (`seed` for the shuffled order) and, if
