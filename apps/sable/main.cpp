@@ -153,7 +153,7 @@ int cmd_fc3d(const std::string& file, const Fc3dOptions& o) {
           ? ""
           : fmt::format(" NLGS sweeps{}, then {} Newton steps{}",
                         r.stagnated ? " (stagnating)" : "", r.newton_iterations,
-                        r.newton_restarted ? " (restarted from r = 0)" : ""),
+                        r.newton_restarted ? " (from zero, then from the NLGS's)" : ""),
       r.converged ? "" : fmt::format(" (not converged to {:g})", o.tolerance), r.residual,
       r.seconds);
   if (!o.reactions.empty()) {

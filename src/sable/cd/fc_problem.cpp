@@ -181,18 +181,22 @@ FcReport solve_fc(const std::string& path, const NlgsSettings& s, std::uint64_t 
         bool restarted = false;
         if (!res.converged && std::isfinite(res.residual) && newton_iterations > 0) {
           const NewtonSettings ns{.tolerance = s.tolerance, .max_iterations = newton_iterations};
+          // Newton from r = 0 first: from the NLGS's stalled iterate it often stalls too
+          // (spheres-in-a-box-98: 17 steps from zero, no convergence in 100 from the NLGS's;
+          // the silo's capped steps alike), from zero it converged on every problem tried but
+          // one. That one (a Newton from zero stalling) gets a second try from the NLGS's
+          // iterate; the better of the two is kept.
+          const std::vector<LVec<d>> nlgs(p.reactions().begin(), p.reactions().end());
+          p.reset_reactions();
           newton = solve_newton_ac<d>(p, ns);
           if (!newton.converged) {
-            // From the NLGS's iterate Newton can stall where it converges from r = 0 (a
-            // singular W: spheres-in-a-box-98, 17 steps from zero, none from the NLGS's). The
-            // better of the two iterates is kept.
-            const std::vector<LVec<d>> kept(p.reactions().begin(), p.reactions().end());
-            p.reset_reactions();
-            const NewtonResult cold = solve_newton_ac<d>(p, ns);
-            if (!(cold.residual <= newton.residual))
-              for (std::size_t a = 0; a < p.size(); ++a) p.apply(a, kept[a] - p.r(a));
-            newton.iterations += cold.iterations;
-            newton.converged = cold.converged;
+            const std::vector<LVec<d>> cold(p.reactions().begin(), p.reactions().end());
+            for (std::size_t a = 0; a < p.size(); ++a) p.apply(a, nlgs[a] - p.r(a));
+            const NewtonResult warm = solve_newton_ac<d>(p, ns);
+            if (!(warm.residual <= newton.residual))
+              for (std::size_t a = 0; a < p.size(); ++a) p.apply(a, cold[a] - p.r(a));
+            newton.iterations += warm.iterations;
+            newton.converged = warm.converged;
             restarted = true;
           }
           res.converged = newton.converged;

@@ -115,15 +115,15 @@ struct FcReport {
   int reordered_at = -1;          // NlgsResult::reordered_at
   bool stagnated = false;         // the NLGS stagnated (after its shuffle) and handed over
   int newton_iterations = 0;      // the semismooth Newton's (fc_newton.hpp), after the NLGS
-  bool newton_restarted = false;  // Newton ran again from r = 0
+  bool newton_restarted = false;  // Newton from r = 0 failed and ran from the NLGS's iterate
   double seconds = 0.0;           // solve wall time (reading the file excluded)
   std::vector<double> reactions;  // the solution, d values per contact ([N, T] or [N, T1, T2])
 };
 
 // Reads `path`, solves it from r = 0 with the NLGS (`seed` for the shuffled order) and, if
 // that stops short of the tolerance, with at most `newton_iterations` steps of the
-// semismooth Newton of fc_newton.hpp (from the NLGS's iterate, then once more from r = 0);
-// reports.
+// semismooth Newton of fc_newton.hpp (from r = 0, then, if that fails, from the NLGS's
+// iterate); reports.
 FcReport solve_fc(const std::string& path, const NlgsSettings& s, std::uint64_t seed = 1,
                   int newton_iterations = 100);
 
