@@ -3,8 +3,13 @@
 // that shuffles the sweeps, travel in the snapshot). Exact comparisons of state hashes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "run_helpers.hpp"
 #include "sable/scenario/config.hpp"
@@ -62,6 +67,61 @@ TEST_P(CdRun, RestartIsBitIdenticalImpulsesIncluded) {
   const auto resumed = run(cd_scenario(dim, 5, (dir / "resumed").string()), snap.string(), true);
   EXPECT_EQ(resumed.steps, full.steps);
   EXPECT_EQ(resumed.state_hash, full.state_hash);
+  fs::remove_all(dir);
+}
+
+// The Newton fallback (cd.newton_iterations, cd/grain_delassus.hpp): with a sweep budget far
+// too small for the tolerance (20 forward sweeps for 1e-6), every step of the fall ends at the
+// tolerance once Newton finishes what the sweeps start, where without it most steps stop
+// short; and the run's bits do not depend on the number of threads.
+TEST_P(CdRun, NewtonFallbackReachesTheToleranceTheSweepsMiss) {
+  const int dim = GetParam();
+  const fs::path dir = fs::temp_directory_path() / ("sable_cd_newton" + std::to_string(dim));
+  fs::remove_all(dir);
+  const auto text = [&](int newton, const std::string& out) {
+    std::string t = cd_scenario(dim, 3, (dir / out).string());
+    const std::string from = "[cd]\nsweep = \"shuffled\"\ntolerance = 1e-6\nmax_iterations = 300\n";
+    t.replace(t.find(from), from.size(),
+              "[cd]\ntolerance = 1e-6\nmax_iterations = 20\nnewton_iterations = " +
+                  std::to_string(newton) + "\n");
+    t.replace(t.find("csv_interval = 50"), 17, "csv_interval = 1");
+    return t;
+  };
+  // Each row's residual, and the Newton steps it took.
+  const auto rows = [&](const std::string& out) {
+    std::ifstream in(dir / out / "series.csv");
+    std::string line;
+    std::getline(in, line);
+    std::vector<std::string> head;
+    std::stringstream hs(line);
+    for (std::string h; std::getline(hs, h, ',');) head.push_back(h);
+    const auto col = [&](const std::string& name) {
+      return static_cast<std::size_t>(std::find(head.begin(), head.end(), name) - head.begin());
+    };
+    const std::size_t res = col("nlgs_residual"), newton = col("newton_iterations");
+    std::vector<std::pair<double, double>> out_rows;
+    while (std::getline(in, line)) {
+      std::vector<std::string> v;
+      std::stringstream ls(line);
+      for (std::string x; std::getline(ls, x, ',');) v.push_back(x);
+      out_rows.emplace_back(std::stod(v.at(res)), std::stod(v.at(newton)));
+    }
+    return out_rows;
+  };
+  const auto with = sable::test::run_text(text(100, "with"), {"", true, 1});
+  const auto two = sable::test::run_text(text(100, "two"), {"", true, 2});
+  sable::test::run_text(text(0, "without"), {"", true, 1});
+  EXPECT_EQ(with.state_hash, two.state_hash);
+  int short_without = 0, newton_used = 0;
+  for (const auto& [res, newton] : rows("without")) short_without += res > 1e-6 ? 1 : 0;
+  const auto rw = rows("with");
+  ASSERT_EQ(rw.size(), 301u);  // the starting row and one per step
+  for (const auto& [res, newton] : rw) {
+    EXPECT_LE(res, 1e-6);
+    newton_used += newton > 0 ? 1 : 0;
+  }
+  EXPECT_GT(short_without, 30);
+  EXPECT_GT(newton_used, 30);
   fs::remove_all(dir);
 }
 

@@ -1,5 +1,8 @@
 #include "sable/cd/cd_solver.hpp"
 
+#include "sable/cd/fc_newton.hpp"
+#include "sable/cd/grain_delassus.hpp"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -221,7 +224,11 @@ void CdSolver<D>::step() {
     auto scope = timers_.time(Phase::kNlgsSolve);
     Problem problem(c_, p, world_.walls, dofs_, h);
     double q2 = 0.0;
-    for (std::size_t a = 0; a < c_.size(); ++a) q2 += problem.velocity(a).squaredNorm();
+    q_.resize(c_.size());
+    for (std::size_t a = 0; a < c_.size(); ++a) {
+      q_[a] = problem.velocity(a);
+      q2 += q_[a].squaredNorm();
+    }
     problem.set_q_norm(std::sqrt(q2));
     // Warm start: the impulses found at build (last step's, in the new frames) act at once.
     for (std::size_t a = 0; a < c_.size(); ++a) {
@@ -234,7 +241,14 @@ void CdSolver<D>::step() {
       c_.m[a] = S::zero_rot();
       problem.apply_couple(a, m0);
     }
-    result_ = cd::solve_nlgs<D>(problem, s_.nlgs, world_.rng);
+    // Without the fallback nothing takes over at a stagnation: the sweeps go on to their cap,
+    // as they always did (the same bits).
+    cd::NlgsSettings nlgs = s_.nlgs;
+    if (!newton_applies()) nlgs.stagnation_window = 0;
+    result_ = cd::solve_nlgs<D>(problem, nlgs, world_.rng);
+    newton_iterations_ = 0;
+    if (!result_.converged && std::isfinite(result_.residual) && newton_applies())
+      newton_fallback(problem);
   }
   if (!std::isfinite(result_.residual)) {
     check_grain_states(world_);  // names the first grain the non-finite impulses reached
@@ -260,6 +274,36 @@ void CdSolver<D>::step() {
   diag_.residual = result_.residual;
   diag_.converged = result_.converged;
   check_grain_states(world_);
+}
+
+// Where the NLGS stopped short (stagnating, or its sweeps spent): the semismooth Newton on the
+// assembled problem, from r = 0 (from the NLGS's stalled iterate it tends to stall too:
+// docs/contact-dynamics.md). Its answer replaces the NLGS's only if its residual, recomputed
+// through the grains' velocities, is lower; the grains then carry its impulses.
+template <int D>
+bool CdSolver<D>::newton_applies() const {
+  const bool bodies =
+      std::any_of(dofs_.begin(), dofs_.end(), [](const WallDof& d) { return d.inv_mass > 0.0; });
+  return s_.newton_iterations > 0 && !bodies && c_.m.empty() &&
+         s_.nlgs.criterion == cd::Criterion::kNatural;
+}
+
+template <int D>
+void CdSolver<D>::newton_fallback(Problem& problem) {
+  cd::MatrixProblem<D> mp = cd::assemble_grain_problem<D>(c_, world_.particles, q_);
+  const cd::NewtonResult nr = cd::solve_newton_ac<D>(
+      mp, {.tolerance = s_.nlgs.tolerance, .max_iterations = s_.newton_iterations});
+  newton_iterations_ = nr.iterations;
+  if (!(nr.residual < result_.residual)) return;
+  const std::vector<LVec> kept(c_.r.begin(), c_.r.end());
+  for (std::size_t a = 0; a < c_.size(); ++a) problem.apply(a, mp.r(a) - c_.r[a]);
+  const double e = cd::natural_map_error<D>(problem);
+  if (!(e < result_.residual)) {  // round-off made it no better: back to the NLGS's
+    for (std::size_t a = 0; a < c_.size(); ++a) problem.apply(a, kept[a] - c_.r[a]);
+    return;
+  }
+  result_.residual = result_.error = e;
+  result_.converged = e <= s_.nlgs.tolerance;
 }
 
 template <int D>
@@ -461,7 +505,7 @@ void CdSolver<D>::store_impulses() {
 
 template <int D>
 std::vector<std::string> CdSolver<D>::diagnostic_columns() const {
-  return {"nlgs_contacts", "nlgs_iterations", "nlgs_residual"};
+  return {"nlgs_contacts", "nlgs_iterations", "nlgs_residual", "newton_iterations"};
 }
 
 template <int D>
@@ -469,6 +513,7 @@ void CdSolver<D>::diagnostic_values(std::vector<double>& row) const {
   row.push_back(static_cast<double>(c_.size()));
   row.push_back(static_cast<double>(result_.iterations));
   row.push_back(result_.residual);
+  row.push_back(static_cast<double>(newton_iterations_));
 }
 
 template class CdSolver<2>;

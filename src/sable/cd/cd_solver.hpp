@@ -36,8 +36,13 @@ struct CdSettings {
   // The grains' sweep keeps its order: it follows the neighbour list, sorted by cell, along
   // which a packing's impulses propagate; a shuffled sweep converges far worse there
   // (docs/BENCHMARKS.md, BM_CdStepOrder: 3-9 times slower at a fixed number of sweeps with
-  // scrambled slots), so the stagnation switch to a shuffled order is off.
-  cd::NlgsSettings nlgs = {.stagnation_window = 0};
+  // scrambled slots). With `newton_iterations` > 0, a stagnation (or the sweep budget spent)
+  // hands over to the semismooth Newton of fc_newton.hpp on the assembled problem
+  // (grain_delassus.hpp), at most that many steps, where the step has neither wall bodies
+  // nor rolling couples and the criterion is the natural map's. Off by default: on the silo
+  // it cuts the sweeps fivefold but costs more time than it saves (docs/contact-dynamics.md).
+  cd::NlgsSettings nlgs = {.shuffle_on_stagnation = false, .stop_on_stagnation = true};
+  int newton_iterations = 0;
   bool warm_start = true;
 };
 
@@ -60,6 +65,7 @@ class CdSolver final : public Solver {
   bool moves_wall_bodies() const override { return true; }
   void set_wall_bodies(const std::vector<WallBody>& bodies) override;
   const cd::NlgsResult& last_solve() const { return result_; }
+  int last_newton_iterations() const { return newton_iterations_; }
 
   // The problem NLGS sees: one entry per candidate contact, velocities from the grains.
   // Public so the NLGS template can call it; not part of the user API.
@@ -103,6 +109,8 @@ class CdSolver final : public Solver {
                    double gap, const Vec& arm_i, const Vec& arm_j, const PairParams& pp,
                    const Vec& force, const Rot& couple);
   void store_impulses();
+  bool newton_applies() const;
+  void newton_fallback(Problem& problem);
   void start_wall_bodies();
   double max_speed() const;
   double wall_speed(std::uint32_t w, const Vec& x, double radius) const;
@@ -115,6 +123,8 @@ class CdSolver final : public Solver {
   Contacts c_;
   std::vector<WallDof> dofs_;  // per wall once set_wall_bodies was called, else empty
   cd::NlgsResult result_;
+  std::vector<LVec> q_;        // the contacts' free velocities (every impulse zero), per step
+  int newton_iterations_ = 0;  // the fallback's steps in the last step (0: not used)
   GrainReorder<D> reorder_;
 };
 

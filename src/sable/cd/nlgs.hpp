@@ -48,8 +48,11 @@ struct NlgsSettings {
   // solve_nlgs). A fixed order can cycle (Siconos' OneObject-i100000-316 sits at 1.7e-3 for
   // 20,000 forward sweeps; shuffled, it reaches 1e-6 in 313). 0: never.
   int stagnation_window = 100;
-  // Return at a stagnation that the shuffle did not cure (or with a shuffled order, at the
-  // first), with NlgsResult::stagnated set: a caller with a global method takes over there.
+  // The first response to a stagnation; false: none (the grains' sweep, whose order matters).
+  bool shuffle_on_stagnation = true;
+  // Return at a stagnation that the shuffle did not cure (or, with a shuffled order or no
+  // shuffle, at the first), with NlgsResult::stagnated set: a caller with a global method
+  // takes over there.
   bool stop_on_stagnation = false;
 };
 

@@ -176,12 +176,15 @@ NlgsResult solve_nlgs(Problem& problem, const NlgsSettings& s, Rng& rng) {
     if (k == 0) checkpoint = res.error;
     if (s.stagnation_window > 0 && k + 1 - checkpoint_at >= s.stagnation_window) {
       if (res.error > 0.9 * checkpoint) {
-        if (sweep_order == SweepOrder::kShuffled && s.stop_on_stagnation) {
+        const bool shuffle = s.shuffle_on_stagnation && sweep_order != SweepOrder::kShuffled;
+        if (!shuffle && s.stop_on_stagnation) {
           res.stagnated = true;
           break;
         }
-        if (sweep_order != SweepOrder::kShuffled) res.reordered_at = k + 1;
-        sweep_order = SweepOrder::kShuffled;
+        if (shuffle) {
+          res.reordered_at = k + 1;
+          sweep_order = SweepOrder::kShuffled;
+        }
       }
       checkpoint = res.error;
       checkpoint_at = k + 1;

@@ -303,6 +303,7 @@ std::unique_ptr<Solver> make_solver(const ScenarioConfig& cfg, World<D>& world) 
   s.nlgs.tolerance = c.tolerance;
   s.nlgs.max_iterations = static_cast<int>(std::min<std::uint64_t>(c.max_iterations, 1u << 30));
   s.nlgs.relaxation = c.relaxation;
+  s.newton_iterations = static_cast<int>(std::min<std::uint64_t>(c.newton_iterations, 1u << 30));
   s.nlgs.local =
       c.local_solver == "exact" ? cd::LocalSolver::kExact : cd::LocalSolver::kBipotential;
   s.nlgs.order = c.sweep == "alternating" ? cd::SweepOrder::kAlternating

@@ -56,6 +56,7 @@ struct CdConfig {
   std::string sweep = "forward";             // "forward" | "alternating" | "shuffled"
   double relaxation = 1.0;                   // in (0, 2)
   bool warm_start = true;                    // start each step from the last step's impulses
+  std::uint64_t newton_iterations = 0;       // Newton steps where the NLGS stops short (0: none)
   SourceLoc loc;
 };
 

@@ -81,7 +81,7 @@ CdConfig parse_cd(const Table& root, const std::string& solver) {
   if (!t) return c;
   if (solver != "cd") root.reject("cd", "unless simulation.solver = \"cd\"");
   t->check_keys({"theta", "tolerance", "max_iterations", "criterion", "local_solver", "sweep",
-                 "relaxation", "warm_start"});
+                 "relaxation", "warm_start", "newton_iterations"});
   c.theta = t->number_or("theta", Range{0.5, 1.0, false, false}, c.theta);
   c.tolerance = t->number_or("tolerance", kPositive, c.tolerance);
   c.max_iterations = t->unsigned_or("max_iterations", c.max_iterations, 1);
@@ -90,6 +90,7 @@ CdConfig parse_cd(const Table& root, const std::string& solver) {
   c.sweep = t->choice("sweep", {"forward", "alternating", "shuffled"}, c.sweep);
   c.relaxation = t->number_or("relaxation", Range{0.0, 2.0, true, true}, c.relaxation);
   c.warm_start = t->boolean_or("warm_start", c.warm_start);
+  c.newton_iterations = t->unsigned_or("newton_iterations", c.newton_iterations, 0);
   c.loc = t->loc();
   return c;
 }
