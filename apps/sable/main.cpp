@@ -119,7 +119,7 @@ int cmd_models() {
 }
 
 struct Fc3dOptions {
-  std::string local = "bipotential";
+  std::string local = "exact";  // 2-4x faster than the bi-potential on the shared problems
   std::string order = "forward";
   double tolerance = 1e-6;
   int max_iterations = 1000;
@@ -314,7 +314,7 @@ int main(int argc, char** argv) {
   auto* fc3d = app.add_subcommand(
       "fc3d", "solve a frictional-contact problem, 2D or 3D (Siconos .dat, FCLIB .hdf5)");
   fc3d->add_option("FILE", file, "problem file (.dat or FCLIB HDF5)")->required();
-  fc3d->add_option("--local", fc3d_opt.local, "local solver")
+  fc3d->add_option("--local", fc3d_opt.local, "local solver (default: exact)")
       ->check(CLI::IsMember({"bipotential", "exact"}));
   fc3d->add_option("--tolerance", fc3d_opt.tolerance, "natural-map residual to reach")
       ->check(non_negative("a residual"));
