@@ -149,7 +149,7 @@ NewtonResult solve_newton_ac(MatrixProblem<d>& p, const NewtonSettings& s) {
     }
     ++res.iterations;
     if (!accepted) {
-      for (std::size_t a = 0; a < n; ++a) p.apply(a, r0[a] - p.r(a));
+      p.set_reactions(r0);
       res.failed = true;
       break;
     }

@@ -191,10 +191,9 @@ FcReport solve_fc(const std::string& path, const NlgsSettings& s, std::uint64_t 
           newton = solve_newton_ac<d>(p, ns);
           if (!newton.converged) {
             const std::vector<LVec<d>> cold(p.reactions().begin(), p.reactions().end());
-            for (std::size_t a = 0; a < p.size(); ++a) p.apply(a, nlgs[a] - p.r(a));
+            p.set_reactions(nlgs);
             const NewtonResult warm = solve_newton_ac<d>(p, ns);
-            if (!(warm.residual <= newton.residual))
-              for (std::size_t a = 0; a < p.size(); ++a) p.apply(a, cold[a] - p.r(a));
+            if (!(warm.residual <= newton.residual)) p.set_reactions(cold);
             newton.iterations += warm.iterations;
             newton.converged = warm.converged;
             restarted = true;

@@ -60,6 +60,8 @@ class MatrixProblem {
   std::span<const Vec> reactions() const { return r_; }
   std::size_t diagonal_block(std::size_t a) const { return diag_[a]; }
   void reset_reactions() { r_.assign(q_.size(), Vec::Zero()); }
+  // The reactions set to `r` (one per contact): a kept iterate restored.
+  void set_reactions(std::span<const Vec> r) { r_.assign(r.begin(), r.end()); }
 
  private:
   std::vector<std::size_t> row_ptr_{0};
