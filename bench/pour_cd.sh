@@ -9,6 +9,8 @@
 #                  scenario's, "auto"); such a bed is kept apart, in out/bench-pour-cd/dem-reorderN
 #   CD_REORDER=N   reorder_every of the CD run (default "auto"). A resume keeps the snapshot's
 #                  count of neighbour builds, so the CD run sorts only at a 20th build.
+#   CD_SWEEP=ORDER the CD run's cd.sweep (default "forward"; "coloured": the parallel sweep,
+#                  threads from OMP_NUM_THREADS); CD_BLOCK=N its cd.colour_block (default 16)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 local_solver="${1:-bipotential}"
@@ -16,6 +18,8 @@ case "$local_solver" in bipotential|exact) ;; *) echo "pour_cd.sh: local solver 
 [ "${SABLE_BUILD:-1}" = 0 ] || bash scripts/build.sh release >/dev/null
 sable="${SABLE:-./build/release/bin/sable}"
 [ -x "$sable" ] || { echo "pour_cd.sh: no Sable binary at $sable" >&2; exit 1; }
+case "${CD_SWEEP:-forward}" in forward|alternating|shuffled|coloured) ;; *) echo "pour_cd.sh: CD_SWEEP='$CD_SWEEP': expected forward, alternating, shuffled or coloured" >&2; exit 2 ;; esac
+[[ "${CD_BLOCK:-16}" =~ ^[1-9][0-9]*$ ]] || { echo "pour_cd.sh: CD_BLOCK='$CD_BLOCK': expected a whole number of contacts >= 1" >&2; exit 2; }
 for knob in DEM_REORDER CD_REORDER; do
   v="${!knob:-auto}"
   [[ "$v" =~ ^(auto|[0-9]+)$ ]] || { echo "pour_cd.sh: $knob='$v': expected \"auto\" or a whole number of neighbour builds" >&2; exit 2; }
@@ -33,7 +37,7 @@ if [ ! -f "$snap" ]; then
       -e "s/^\[simulation\]/[simulation]$(reorder_line "${DEM_REORDER:-auto}")/" examples/pour.toml > "$dem.toml"
   "$sable" run "$dem.toml" --out "$dem" 2>/dev/null
 fi
-sed -e "s/^criterion = .*/criterion = \"natural\"\nlocal_solver = \"$local_solver\"/" \
+sed -e "s/^criterion = .*/criterion = \"natural\"\nlocal_solver = \"$local_solver\"\nsweep = \"${CD_SWEEP:-forward}\"\ncolour_block = ${CD_BLOCK:-16}/" \
     -e "s/^\[simulation\]/[simulation]$(reorder_line "${CD_REORDER:-auto}")/" bench/pour_cd.toml > "$work/pour_cd.toml"
 rm -rf "$out"
 mkdir -p "$out"

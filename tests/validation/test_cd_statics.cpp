@@ -2,9 +2,11 @@
 // Rigid grains make these exact: the only errors are the NLGS tolerance (set tight here,
 // 1e-12 on the natural-map residual) and round-off, hence tolerances of 1e-6 or tighter.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include "sable/cd/cd_solver.hpp"
 
@@ -55,10 +57,21 @@ double pair_normal_force(const sable::World<D>& w, std::uint32_t a, std::uint32_
 
 class ColumnTest : public ::testing::TestWithParam<LocalSolver> {};
 
+void column_of_disks(LocalSolver local, sable::cd::SweepOrder order);
+
 // A frictionless column of N touching disks between two side walls that touch them, on a
 // floor: the contact between the k-th and (k+1)-th disk from the top carries k m g, the floor
 // N m g, the side walls nothing (Dumont-Fortin-Ouafik's regular arrays, the simplest one).
+// In the forward order and in the coloured one (one contact per block: neighbours along the
+// column take alternate colours).
 TEST_P(ColumnTest, FrictionlessColumnOfDisks) {
+  for (const auto order : {sable::cd::SweepOrder::kForward, sable::cd::SweepOrder::kColoured}) {
+    SCOPED_TRACE(std::string(sable::cd::to_string(order)));
+    column_of_disks(GetParam(), order);
+  }
+}
+
+void column_of_disks(LocalSolver local, sable::cd::SweepOrder order) {
   const int n = 10;
   const double r = 1e-3, g = 9.81;
   auto w = rigid_world<2>(0.0, 1e-4);
@@ -67,7 +80,10 @@ TEST_P(ColumnTest, FrictionlessColumnOfDisks) {
   add_plane<2>(w, {0, 0}, {0, 1});   // floor
   add_plane<2>(w, {-r, 0}, {1, 0});  // left wall, touching
   add_plane<2>(w, {r, 0}, {-1, 0});  // right wall, touching
-  sable::CdSolver<2> s(w, tight(GetParam()));
+  sable::CdSettings cs = tight(local);
+  cs.nlgs.order = order;
+  cs.colour_block = 1;
+  sable::CdSolver<2> s(w, cs);
   s.initialize();
   for (int step = 0; step < 5; ++step) s.step();
   ASSERT_TRUE(s.last_solve().converged) << s.last_solve().residual;
@@ -85,6 +101,68 @@ TEST_P(ColumnTest, FrictionlessColumnOfDisks) {
 
 INSTANTIATE_TEST_SUITE_P(LocalSolvers, ColumnTest,
                          ::testing::Values(LocalSolver::kBipotential, LocalSolver::kExact));
+
+// The coloured, threaded sweep (cd/colouring.hpp) on the column's problem many times over: a
+// simple cubic stack of 12 x 12 x 12 touching frictionless spheres in a box whose side walls
+// touch it. Each column carries its own weight (the k-th contact from the top k m g, the
+// floor 12 m g per column); the sideways contacts and walls nothing. About 5,500 contacts:
+// the sweep runs on the threads (above nlgs_impl.hpp's kMinParallelContacts), in blocks of 4
+// contacts, and two threads give the one thread's forces to the bit.
+TEST(CdStatics, ColouredSweepOnThreadsCarriesEachColumnsWeight) {
+  const int n = 12;
+  const double r = 1e-3, g = 9.81;
+  const auto run = [&](int threads) {
+    auto w = rigid_world<3>(0.0, 1e-4);
+    w.gravity = {0, 0, -g};
+    w.reorder_every = 0;  // slots stay where they were added (slot() below)
+    for (int z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+          w.particles.add({r + 2 * r * x, r + 2 * r * y, r + 2 * r * z}, r, 2500.0, 0, 1.0);
+    add_plane<3>(w, {0, 0, 0}, {0, 0, 1});
+    add_plane<3>(w, {0, 0, 0}, {1, 0, 0});
+    add_plane<3>(w, {2 * r * n, 0, 0}, {-1, 0, 0});
+    add_plane<3>(w, {0, 0, 0}, {0, 1, 0});
+    add_plane<3>(w, {0, 2 * r * n, 0}, {0, -1, 0});
+    sable::CdSettings cs = tight(LocalSolver::kExact);
+    cs.nlgs.order = sable::cd::SweepOrder::kColoured;
+    cs.colour_block = 4;
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    sable::CdSolver<3> s(w, cs);
+    s.initialize();
+    for (int step = 0; step < 3; ++step) s.step();
+    omp_set_num_threads(before);
+    EXPECT_TRUE(s.last_solve().converged) << s.last_solve().residual;
+    EXPECT_GT(s.diagnostics().touching, 0u);
+    return w;
+  };
+  const auto w = run(1);
+  const double mg = w.particles.mass[0] * g;
+  const auto slot = [&](int x, int y, int z) {
+    return static_cast<std::uint32_t>(x + n * (y + n * z));
+  };
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x)
+      for (int z = 1; z < n; ++z) {
+        const int above = n - z;  // grains resting on this contact
+        EXPECT_NEAR(pair_normal_force(w, slot(x, y, z), slot(x, y, z - 1)), above * mg,
+                    1e-6 * above * mg);
+        if (x > 0) {
+          EXPECT_NEAR(pair_normal_force(w, slot(x, y, z), slot(x - 1, y, z)), 0.0, 1e-9 * mg);
+        }
+      }
+  EXPECT_NEAR(-w.walls[0].force.z(), n * n * n * mg, 1e-6 * n * n * n * mg);
+  for (int k = 1; k < 5; ++k) EXPECT_NEAR(w.walls[k].force.norm(), 0.0, 1e-9 * mg) << "wall " << k;
+  // Two threads: the same forces, bit for bit.
+  const auto w2 = run(2);
+  const auto& pl = w.neighbors.pairs;
+  ASSERT_EQ(pl.size(), w2.neighbors.pairs.size());
+  for (std::size_t k = 0; k < pl.size(); ++k)
+    ASSERT_EQ(pl.force[k], w2.neighbors.pairs.force[k]) << k;
+  for (std::size_t k = 0; k < w.particles.size(); ++k)
+    ASSERT_EQ(w.particles.x[k], w2.particles.x[k]);
+}
 
 // Cannon ball in 2D: a disk on two disks held apart by walls, frictionless. Each upper
 // contact carries W / (2 cos 30), each wall W tan 30 / 2, and the lower disks (separated by

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "sable/core/error.hpp"
+#include "sable/core/parallel.hpp"
 #include "sable/world/guards.hpp"
 
 namespace sable {
@@ -19,8 +20,9 @@ template <int D>
 class CdSolver<D>::Problem {
  public:
   Problem(Contacts& c, ParticleStore<D>& p, std::vector<Wall<D>>& walls, std::vector<WallDof>& dofs,
-          double h)
-      : c_(c), p_(p), walls_(walls), dofs_(dofs), inv_h_(1.0 / h) {}
+          double h, const cd::SweepColouring& colouring)
+      : c_(c), p_(p), walls_(walls), dofs_(dofs), inv_h_(1.0 / h), colouring_(colouring) {}
+  const cd::SweepColouring& colouring() const { return colouring_; }
   std::size_t size() const { return c_.size(); }
   const LMat& W(std::size_t a) const { return c_.W[a]; }
   double mu(std::size_t a) const { return c_.mu[a]; }
@@ -49,11 +51,17 @@ class CdSolver<D>::Problem {
     c_.r[a] += dr;
     const Vec impulse = c_.frame[a] * dr;
     const std::uint32_t i = c_.i[a], j = c_.partner[a];
-    p_.v[i] += p_.inv_mass[i] * impulse;
-    p_.omega[i] += p_.inv_inertia[i] * S::moment(c_.arm_i[a], impulse);
+    // A fixed grain is not written: the coloured sweep lets contacts of one colour share it
+    // (an update by zero leaves a finite velocity as it is).
+    if (!p_.fixed(i)) {
+      p_.v[i] += p_.inv_mass[i] * impulse;
+      p_.omega[i] += p_.inv_inertia[i] * S::moment(c_.arm_i[a], impulse);
+    }
     if (!c_.wall[a]) {
-      p_.v[j] -= p_.inv_mass[j] * impulse;
-      p_.omega[j] -= p_.inv_inertia[j] * S::moment(c_.arm_j[a], impulse);
+      if (!p_.fixed(j)) {
+        p_.v[j] -= p_.inv_mass[j] * impulse;
+        p_.omega[j] -= p_.inv_inertia[j] * S::moment(c_.arm_j[a], impulse);
+      }
     } else if (j < dofs_.size() && dofs_[j].inv_mass > 0.0) {
       // A wall body takes the opposite impulse along its normal (its one degree of freedom;
       // the friction impulses, tangent to a plane wall, have no component there). The speed
@@ -126,8 +134,8 @@ class CdSolver<D>::Problem {
   void apply_couple(std::size_t a, const Rot& dm) {
     const std::uint32_t i = c_.i[a], j = c_.partner[a];
     c_.m[a] += dm;
-    p_.omega[i] += p_.inv_inertia[i] * dm;
-    if (!c_.wall[a]) p_.omega[j] -= p_.inv_inertia[j] * dm;
+    if (!p_.fixed(i)) p_.omega[i] += p_.inv_inertia[i] * dm;
+    if (!c_.wall[a] && !p_.fixed(j)) p_.omega[j] -= p_.inv_inertia[j] * dm;
   }
 
  private:
@@ -136,25 +144,26 @@ class CdSolver<D>::Problem {
   std::vector<Wall<D>>& walls_;
   std::vector<WallDof>& dofs_;
   double inv_h_;
+  const cd::SweepColouring& colouring_;
   double q_norm_ = 0.0;
 };
 
 template <int D>
-void CdSolver<D>::Contacts::clear() {
-  i.clear();
-  partner.clear();
-  wall.clear();
-  source.clear();
-  frame.clear();
-  arm_i.clear();
-  arm_j.clear();
-  W.clear();
-  mu.clear();
-  gap.clear();
-  r.clear();
-  roll_mu.clear();
-  roll_r.clear();
-  m.clear();
+void CdSolver<D>::Contacts::resize(std::size_t n, bool rolling) {
+  i.resize(n);
+  partner.resize(n);
+  wall.resize(n);
+  source.resize(n);
+  frame.resize(n);
+  arm_i.resize(n);
+  arm_j.resize(n);
+  W.resize(n);
+  mu.resize(n);
+  gap.resize(n);
+  r.resize(n);
+  roll_mu.resize(rolling ? n : 0);
+  roll_r.resize(rolling ? n : 0);
+  m.resize(rolling ? n : 0);
 }
 
 namespace {
@@ -219,10 +228,11 @@ void CdSolver<D>::step() {
   {
     auto scope = timers_.time(Phase::kContactBuild);
     build_contacts();
+    if (s_.nlgs.order == cd::SweepOrder::kColoured) build_colouring();
   }
   {
     auto scope = timers_.time(Phase::kNlgsSolve);
-    Problem problem(c_, p, world_.walls, dofs_, h);
+    Problem problem(c_, p, world_.walls, dofs_, h, colouring_);
     double q2 = 0.0;
     q_.resize(c_.size());
     for (std::size_t a = 0; a < c_.size(); ++a) {
@@ -346,9 +356,10 @@ double CdSolver<D>::max_speed() const {
 
 template <int D>
 template <bool kWall>
-void CdSolver<D>::add_contact(std::uint32_t i, std::uint32_t partner, std::uint32_t source,
-                              const Vec& n, double gap, const Vec& arm_i, const Vec& arm_j,
-                              const PairParams& pp, const Vec& force, const Rot& couple) {
+void CdSolver<D>::set_contact(std::size_t a, std::uint32_t i, std::uint32_t partner,
+                              std::uint32_t source, const Vec& n, double gap, const Vec& arm_i,
+                              const Vec& arm_j, const PairParams& pp, const Vec& force,
+                              const Rot& couple) {
   using S = Space<D>;
   const auto& p = world_.particles;
   const LMat frame = contact_frame<D>(n);
@@ -368,35 +379,37 @@ void CdSolver<D>::add_contact(std::uint32_t i, std::uint32_t partner, std::uint3
     }
     W.col(c) = frame.transpose() * dv;
   }
-  c_.i.push_back(i);
-  c_.partner.push_back(partner);
-  c_.wall.push_back(kWall ? 1 : 0);
-  c_.source.push_back(source);
-  c_.frame.push_back(frame);
-  c_.arm_i.push_back(arm_i);
-  c_.arm_j.push_back(arm_j);
-  c_.W.push_back(W);
-  c_.mu.push_back(pp.friction);
-  c_.gap.push_back(gap);
-  c_.r.push_back(s_.warm_start ? LVec(frame.transpose() * force * world_.dt) : LVec::Zero());
+  c_.i[a] = i;
+  c_.partner[a] = partner;
+  c_.wall[a] = kWall ? 1 : 0;
+  c_.source[a] = source;
+  c_.frame[a] = frame;
+  c_.arm_i[a] = arm_i;
+  c_.arm_j[a] = arm_j;
+  c_.W[a] = W;
+  c_.mu[a] = pp.friction;
+  c_.gap[a] = gap;
+  c_.r[a] = s_.warm_start ? LVec(frame.transpose() * force * world_.dt) : LVec::Zero();
   if (world_.model.rolling == RollingModel::kNone) return;
   const double r_i = p.radius[i];
   const double r_eff = kWall ? r_i : r_i * p.radius[partner] / (r_i + p.radius[partner]);
-  c_.roll_mu.push_back(pp.rolling_friction);
-  c_.roll_r.push_back(r_eff);
+  c_.roll_mu[a] = pp.rolling_friction;
+  c_.roll_r[a] = r_eff;
   Rot m = s_.warm_start ? Rot(couple * world_.dt) : S::zero_rot();
   if constexpr (D == 3) m -= m.dot(n) * n;  // last step's couple, in the new tangent plane
-  c_.m.push_back(m);
+  c_.m[a] = m;
 }
 
 // The problem holds the candidates whose gap can close within the step: gap <= 2 h v_max,
 // v_max the largest grain speed (rotation included) after the free flight, doubled because
 // impulses can speed grains up during the solve. Far-open candidates would only add
 // unknowns that stay zero, and their large gap/h would dilute the convergence measures.
+// Two passes over the lists' entries, each shared among the threads: which entries join
+// (and the wall entries' features), then, after a prefix sum gives each joining entry its
+// slot, the contacts themselves. The contacts follow the lists' order on any thread count.
 template <int D>
 void CdSolver<D>::build_contacts() {
   using S = Space<D>;
-  c_.clear();
   const auto& p = world_.particles;
   auto& pl = world_.neighbors.pairs;
   auto& wl = world_.neighbors.wall_pairs;
@@ -405,40 +418,88 @@ void CdSolver<D>::build_contacts() {
   // load_snapshot()) hold each contact's couple (N m) on its grain i, for the warm start and
   // the outputs (DEM keeps its rolling spring there).
   const bool rolling = world_.model.rolling != RollingModel::kNone;
-  for (std::size_t k = 0; k < pl.size(); ++k) {
+  const auto np = static_cast<std::ptrdiff_t>(pl.size()),
+             nw = static_cast<std::ptrdiff_t>(wl.size());
+  slot_.resize(static_cast<std::size_t>(np + nw) + 1);
+  features_.resize(static_cast<std::size_t>(nw));
+#pragma omp parallel for schedule(static) if (np >= kMinParallelItems)
+  for (std::ptrdiff_t k = 0; k < np; ++k) {
     const std::uint32_t i = pl.i[k], j = pl.j[k];
-    const Vec d = p.x[i] - p.x[j];
-    const double dist = d.norm();
-    const double gap = dist - p.radius[i] - p.radius[j];
-    if (gap > reach) {
-      pl.force[k].setZero();
-      if (rolling) pl.roll[k] = S::zero_rot();
-      continue;
-    }
-    const Vec n = d / dist;
-    add_contact<false>(i, j, static_cast<std::uint32_t>(k), n, gap, -p.radius[i] * n,
-                       p.radius[j] * n, world_.materials.pair(p.material[i], p.material[j]),
-                       pl.force[k], rolling ? pl.roll[k] : S::zero_rot());
+    // Not (gap > reach): a non-finite gap joins, and the solve reports it.
+    const bool joins = !((p.x[i] - p.x[j]).norm() - p.radius[i] - p.radius[j] > reach);
+    slot_[k] = joins ? 1 : 0;
+    if (joins) continue;
+    pl.force[k].setZero();
+    if (rolling) pl.roll[k] = S::zero_rot();
   }
   // A wall entry is (grain, wall, element): the feature its element answers for
   // (geometry/walls.hpp; for a plane or a cylinder, element 0 is the whole surface), skipped
   // when another element's entry holds the nearest feature.
-  for (std::size_t k = 0; k < wl.size(); ++k) {
+#pragma omp parallel for schedule(static) if (nw >= kMinParallelItems)
+  for (std::ptrdiff_t k = 0; k < nw; ++k) {
     const std::uint32_t i = wl.i[k];
-    const Wall<D>& wall = world_.walls[wl.wall[k]];
-    const WallFeature<D> f = wall.contact(p.x[i], wl.element[k]);
-    if (!f.active ||
-        f.dist - p.radius[i] > reach + world_.dt * wall_speed(wl.wall[k], p.x[i], p.radius[i])) {
-      wl.force[k].setZero();
-      if (rolling) wl.roll[k] = S::zero_rot();
+    const WallFeature<D> f = world_.walls[wl.wall[k]].contact(p.x[i], wl.element[k]);
+    const bool joins =
+        f.active &&
+        !(f.dist - p.radius[i] > reach + world_.dt * wall_speed(wl.wall[k], p.x[i], p.radius[i]));
+    slot_[np + k] = joins ? 1 : 0;
+    features_[k] = f;
+    if (joins) {
+      wl.feature[k] = f.feature;
       continue;
     }
-    wl.feature[k] = f.feature;
-    add_contact<true>(i, wl.wall[k], static_cast<std::uint32_t>(k), f.n, f.dist - p.radius[i],
-                      -p.radius[i] * f.n, Vec::Zero(),
-                      world_.materials.pair(p.material[i], wall.material), wl.force[k],
-                      rolling ? wl.roll[k] : S::zero_rot());
+    wl.force[k].setZero();
+    if (rolling) wl.roll[k] = S::zero_rot();
   }
+  slot_.back() = 0;
+  std::size_t count = 0;  // exclusive prefix sum: slot_[k], the contact of entry k if it joins
+  for (std::size_t& s : slot_) {
+    const std::size_t joins = s;
+    s = count;
+    count += joins;
+  }
+  c_.resize(count, rolling);
+#pragma omp parallel for schedule(static) if (np >= kMinParallelItems)
+  for (std::ptrdiff_t k = 0; k < np; ++k) {
+    if (slot_[k + 1] == slot_[k]) continue;
+    const std::uint32_t i = pl.i[k], j = pl.j[k];
+    const Vec d = p.x[i] - p.x[j];
+    const double dist = d.norm();
+    const Vec n = d / dist;
+    set_contact<false>(slot_[k], i, j, static_cast<std::uint32_t>(k), n,
+                       dist - p.radius[i] - p.radius[j], -p.radius[i] * n, p.radius[j] * n,
+                       world_.materials.pair(p.material[i], p.material[j]), pl.force[k],
+                       rolling ? pl.roll[k] : S::zero_rot());
+  }
+#pragma omp parallel for schedule(static) if (nw >= kMinParallelItems)
+  for (std::ptrdiff_t k = 0; k < nw; ++k) {
+    if (slot_[np + k + 1] == slot_[np + k]) continue;
+    const std::uint32_t i = wl.i[k];
+    const WallFeature<D>& f = features_[k];
+    set_contact<true>(slot_[np + k], i, wl.wall[k], static_cast<std::uint32_t>(k), f.n,
+                      f.dist - p.radius[i], -p.radius[i] * f.n, Vec::Zero(),
+                      world_.materials.pair(p.material[i], world_.walls[wl.wall[k]].material),
+                      wl.force[k], rolling ? wl.roll[k] : S::zero_rot());
+  }
+}
+
+// The bodies each contact updates: its grains unless fixed (walls take no update, but a wall
+// body takes every impulse of its contacts: those run in the serial tail).
+template <int D>
+void CdSolver<D>::build_colouring() {
+  const auto& p = world_.particles;
+  constexpr std::uint32_t kNone = cd::SweepColouring::kNoBody;
+  const std::size_t n = c_.size();
+  body_i_.resize(n);
+  body_j_.resize(n);
+  serial_.resize(n);
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::uint32_t i = c_.i[a], j = c_.partner[a];
+    body_i_[a] = p.fixed(i) ? kNone : i;
+    body_j_[a] = c_.wall[a] || p.fixed(j) ? kNone : j;
+    serial_[a] = c_.wall[a] && is_body(j) ? 1 : 0;
+  }
+  colouring_.build(body_i_, body_j_, serial_, p.size(), s_.colour_block);
 }
 
 // How fast wall w's surface can move near a grain centre x during the step: a wall body's

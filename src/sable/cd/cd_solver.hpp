@@ -42,6 +42,8 @@ struct CdSettings {
   // nor rolling couples and the criterion is the natural map's. Off by default: on the silo
   // it cuts the sweeps fivefold but costs more time than it saves (docs/contact-dynamics.md).
   cd::NlgsSettings nlgs = {.shuffle_on_stagnation = false, .stop_on_stagnation = true};
+  // nlgs.order kColoured: contacts per block of the colouring (cd/colouring.hpp).
+  std::size_t colour_block = 256;
   int newton_iterations = 0;
   bool warm_start = true;
 };
@@ -86,7 +88,7 @@ class CdSolver final : public Solver {
     std::vector<double> roll_r;
     std::vector<Rot> m;
     std::size_t size() const { return i.size(); }
-    void clear();
+    void resize(std::size_t n, bool rolling);  // the rolling arrays to n, or empty
   };
   // A wall's degree of freedom during a step (inv_mass 0: the wall's velocity is prescribed).
   // Its speed along the normal is u = clamp(u_free + impulse / M, +-max_speed).
@@ -104,10 +106,11 @@ class CdSolver final : public Solver {
 
  private:
   void build_contacts();
+  void build_colouring();
   template <bool kWall>
-  void add_contact(std::uint32_t i, std::uint32_t partner, std::uint32_t source, const Vec& n,
-                   double gap, const Vec& arm_i, const Vec& arm_j, const PairParams& pp,
-                   const Vec& force, const Rot& couple);
+  void set_contact(std::size_t a, std::uint32_t i, std::uint32_t partner, std::uint32_t source,
+                   const Vec& n, double gap, const Vec& arm_i, const Vec& arm_j,
+                   const PairParams& pp, const Vec& force, const Rot& couple);
   void store_impulses();
   bool newton_applies() const;
   void newton_fallback(Problem& problem);
@@ -123,8 +126,13 @@ class CdSolver final : public Solver {
   Contacts c_;
   std::vector<WallDof> dofs_;  // per wall once set_wall_bodies was called, else empty
   cd::NlgsResult result_;
-  std::vector<LVec> q_;        // the contacts' free velocities (every impulse zero), per step
-  int newton_iterations_ = 0;  // the fallback's steps in the last step (0: not used)
+  std::vector<LVec> q_;           // the contacts' free velocities (every impulse zero), per step
+  cd::SweepColouring colouring_;  // kColoured: this step's blocks
+  std::vector<std::uint32_t> body_i_, body_j_;  // scratch of build_colouring()
+  std::vector<std::uint8_t> serial_;
+  std::vector<std::size_t> slot_;         // scratch of build_contacts(): per list entry
+  std::vector<WallFeature<D>> features_;  // and per wall entry
+  int newton_iterations_ = 0;             // the fallback's steps in the last step (0: not used)
   GrainReorder<D> reorder_;
 };
 

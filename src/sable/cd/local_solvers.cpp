@@ -266,6 +266,8 @@ std::string_view to_string(SweepOrder o) {
       return "alternating";
     case SweepOrder::kShuffled:
       return "shuffled";
+    case SweepOrder::kColoured:
+      return "coloured";
   }
   return "?";
 }
@@ -287,7 +289,8 @@ std::optional<LocalSolver> parse_local_solver(std::string_view s) {
   return std::nullopt;
 }
 std::optional<SweepOrder> parse_sweep_order(std::string_view s) {
-  for (const auto v : {SweepOrder::kForward, SweepOrder::kAlternating, SweepOrder::kShuffled})
+  for (const auto v : {SweepOrder::kForward, SweepOrder::kAlternating, SweepOrder::kShuffled,
+                       SweepOrder::kColoured})
     if (to_string(v) == s) return v;
   return std::nullopt;
 }

@@ -16,6 +16,7 @@
 #include <optional>
 #include <string_view>
 
+#include "sable/cd/colouring.hpp"
 #include "sable/core/rng.hpp"
 
 namespace sable::cd {
@@ -29,7 +30,9 @@ enum class LocalSolver : std::uint8_t {
   kBipotential,  // De Saxce-Feng bi-potential prediction-correction (Dumont-Fortin-Ouafik eq. 15)
   kExact,        // exact solution of the one-contact problem (enumeration / Newton)
 };
-enum class SweepOrder : std::uint8_t { kForward, kAlternating, kShuffled };
+// kColoured: blocks of contacts coloured so that one colour's blocks share no body, swept in
+// parallel (colouring.hpp); only for a Problem that provides `colouring()`.
+enum class SweepOrder : std::uint8_t { kForward, kAlternating, kShuffled, kColoured };
 enum class Criterion : std::uint8_t {
   kQuad,     // LMGC90 'Quad': sqrt(sum |dU|^2 / sum |U|^2) over one sweep
   kMaxm,     // LMGC90 'Maxm': max |dU| / mean |U|
@@ -82,6 +85,10 @@ struct NlgsResult {
 //                                                  optional: adds those unknowns' natural
 //                                                  map (f2) and norms (r2, u2) to the
 //                                                  sums of natural_map_error
+//   const SweepColouring& colouring() const;       optional: the blocks of the kColoured
+//                                                  order; apply() and solve_extra() of
+//                                                  contacts in different blocks of a colour
+//                                                  then run at once on different threads
 
 // Euclidean projection of x onto the Coulomb cone K_mu = { |x_T| <= mu x_N }.
 template <int d>
@@ -100,6 +107,11 @@ LVec<d> solve_local(const LMat<d>& W, const LVec<d>& q, double mu, const LVec<d>
 // The nonlinear Gauss-Seidel loop. `rng` is used by SweepOrder::kShuffled only.
 template <int d, class Problem>
 NlgsResult solve_nlgs(Problem& problem, const NlgsSettings& s, Rng& rng);
+
+// The same sum in fixed chunks of contacts, the chunks' partial sums added in chunk order:
+// what the coloured sweep uses, spread over the threads with the same bits for any count.
+template <int d, class Problem>
+double natural_map_error_chunked(Problem& problem);
 
 // Siconos' error: ||r - P_K(r - (U + mu|U_T| e_N))|| / max(||q||, ||r||, ||U||), all norms over
 // the whole problem, with the problem's extra unknowns if it has them (extra_residual); 0 when

@@ -4,12 +4,18 @@
 // defined here.
 #pragma once
 
+#include <omp.h>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <span>
+#include <stdexcept>
 #include <vector>
+
+#include "sable/core/parallel.hpp"
 
 namespace sable::cd {
 
@@ -104,6 +110,42 @@ SweepStats nlgs_sweep(Problem& problem, std::span<const std::size_t> order, cons
 
 namespace detail {
 
+// Below this many contacts a coloured sweep and its residual stay on one thread (the same
+// bits: only the team changes); above, the team's start-up is small beside the work.
+inline constexpr auto kMinParallelContacts = static_cast<std::size_t>(kMinParallelItems);
+
+inline void add_stats(SweepStats& to, const SweepStats& from) {
+  to.du2 += from.du2;
+  to.u2 += from.u2;
+  to.du_max = std::max(to.du_max, from.du_max);
+  to.u_sum += from.u_sum;
+}
+
+}  // namespace detail
+
+// One sweep in the coloured order (colouring.hpp): colour after colour, the blocks of a
+// colour shared among the threads (any schedule: they touch disjoint bodies), each block
+// swept by nlgs_sweep in index order; then the serial tail. The blocks' stats go to
+// block_stats (size: the blocks) and are added in block order, so the result's bits do not
+// depend on the threads either.
+template <int d, class Problem>
+SweepStats nlgs_sweep_coloured(Problem& problem, const SweepColouring& col, const NlgsSettings& s,
+                               std::span<LVec<d>> last_u, std::span<SweepStats> block_stats) {
+  const bool parallel = problem.size() >= detail::kMinParallelContacts;
+#pragma omp parallel if (parallel)
+  for (std::size_t c = 0; c < col.colours(); ++c) {
+#pragma omp for schedule(dynamic, 4)
+    for (std::size_t b = col.colour_begin(c); b < col.colour_begin(c + 1); ++b)
+      block_stats[b] = nlgs_sweep<d>(problem, col.block(b), s, last_u);
+  }
+  SweepStats st;
+  for (std::size_t b = 0; b < col.blocks(); ++b) detail::add_stats(st, block_stats[b]);
+  detail::add_stats(st, nlgs_sweep<d>(problem, col.serial(), s, last_u));
+  return st;
+}
+
+namespace detail {
+
 // num / den with the conventions 0 / 0 = 0 and x / 0 = +inf (x > 0).
 inline double safe_ratio(double num, double den) {
   if (num == 0.0) return 0.0;
@@ -122,11 +164,13 @@ inline double sweep_criterion(Criterion c, const SweepStats& st, std::size_t n) 
 
 }  // namespace detail
 
+namespace detail {
+
+// The natural map's sums over contacts [a0, a1), added to s = {f2, r2, u2} in index order.
 template <int d, class Problem>
-double natural_map_error(Problem& problem) {
-  double f2 = 0.0, r2 = 0.0, u2 = 0.0;
-  const std::size_t n = problem.size();
-  for (std::size_t a = 0; a < n; ++a) {
+void natural_map_sums(Problem& problem, std::size_t a0, std::size_t a1, std::array<double, 3>& s) {
+  double f2 = s[0], r2 = s[1], u2 = s[2];
+  for (std::size_t a = a0; a < a1; ++a) {
     const LVec<d> U = problem.velocity(a);
     const LVec<d> r = problem.r(a);
     f2 += natural_map<d>(r, U, problem.mu(a)).squaredNorm();
@@ -135,8 +179,46 @@ double natural_map_error(Problem& problem) {
     if constexpr (requires { problem.extra_residual(a, f2, r2, u2); })
       problem.extra_residual(a, f2, r2, u2);
   }
-  const double den = std::max({problem.q_norm(), std::sqrt(r2), std::sqrt(u2)});
-  return detail::safe_ratio(std::sqrt(f2), den);
+  s = {f2, r2, u2};
+}
+
+template <class Problem>
+double natural_map_ratio(const Problem& problem, const std::array<double, 3>& s) {
+  const double den = std::max({problem.q_norm(), std::sqrt(s[1]), std::sqrt(s[2])});
+  return safe_ratio(std::sqrt(s[0]), den);
+}
+
+inline constexpr std::size_t kErrorChunk = 1024;  // contacts per partial sum
+
+// natural_map_error_chunked with its partial sums in `partial` (resized; reused by the caller
+// from sweep to sweep).
+template <int d, class Problem>
+double natural_map_error_chunked(Problem& problem, std::vector<std::array<double, 3>>& partial) {
+  const std::size_t n = problem.size();
+  const std::size_t chunks = (n + kErrorChunk - 1) / kErrorChunk;
+  partial.assign(chunks, {0.0, 0.0, 0.0});
+#pragma omp parallel for schedule(static) if (n >= kMinParallelContacts)
+  for (std::size_t k = 0; k < chunks; ++k)
+    natural_map_sums<d>(problem, k * kErrorChunk, std::min(n, (k + 1) * kErrorChunk), partial[k]);
+  std::array<double, 3> s = {0.0, 0.0, 0.0};
+  for (const auto& p : partial)
+    for (int m = 0; m < 3; ++m) s[m] += p[m];
+  return natural_map_ratio(problem, s);
+}
+
+}  // namespace detail
+
+template <int d, class Problem>
+double natural_map_error(Problem& problem) {
+  std::array<double, 3> s = {0.0, 0.0, 0.0};
+  detail::natural_map_sums<d>(problem, 0, problem.size(), s);
+  return detail::natural_map_ratio(problem, s);
+}
+
+template <int d, class Problem>
+double natural_map_error_chunked(Problem& problem) {
+  std::vector<std::array<double, 3>> partial;
+  return detail::natural_map_error_chunked<d>(problem, partial);
 }
 
 template <int d, class Problem>
@@ -147,23 +229,42 @@ NlgsResult solve_nlgs(Problem& problem, const NlgsSettings& s, Rng& rng) {
     res.converged = true;
     return res;
   }
-  std::vector<std::size_t> order(n);
+  const bool coloured = s.order == SweepOrder::kColoured;
+  std::vector<std::size_t> order(coloured ? 0 : n);
+  std::vector<SweepStats> block_stats;
+  std::vector<std::array<double, 3>> partial;  // the chunked residual's sums
+  if constexpr (requires { problem.colouring(); }) {
+    if (coloured) block_stats.resize(problem.colouring().blocks());
+  } else if (coloured) {
+    throw std::invalid_argument("NLGS: the coloured order needs a problem with a colouring");
+  }
   std::vector<LVec<d>> last_u;
   if (s.criterion != Criterion::kNatural) {
     last_u.resize(n);
     for (std::size_t a = 0; a < n; ++a) last_u[a] = problem.velocity(a);
   }
+  auto sweep = [&](SweepOrder o, int k) {
+    if constexpr (requires { problem.colouring(); }) {
+      if (o == SweepOrder::kColoured)
+        return nlgs_sweep_coloured<d>(problem, problem.colouring(), s, std::span<LVec<d>>(last_u),
+                                      std::span<SweepStats>(block_stats));
+    }
+    fill_sweep_order(order, o, k, rng);
+    return nlgs_sweep<d>(problem, order, s, std::span<LVec<d>>(last_u));
+  };
+  auto residual = [&] {
+    return coloured ? detail::natural_map_error_chunked<d>(problem, partial)
+                    : natural_map_error<d>(problem);
+  };
   bool error_is_residual = false;
   SweepOrder sweep_order = s.order;
   double checkpoint = 0.0;  // the error after sweep checkpoint_at (the first, then each window's)
   int checkpoint_at = 1;
   for (int k = 0; k < s.max_iterations; ++k) {
-    fill_sweep_order(order, sweep_order, k, rng);
-    const SweepStats st = nlgs_sweep<d>(problem, order, s, std::span<LVec<d>>(last_u));
+    const SweepStats st = sweep(sweep_order, k);
     res.iterations = k + 1;
     error_is_residual = s.criterion == Criterion::kNatural;
-    res.error = error_is_residual ? natural_map_error<d>(problem)
-                                  : detail::sweep_criterion(s.criterion, st, n);
+    res.error = error_is_residual ? residual() : detail::sweep_criterion(s.criterion, st, n);
     if (res.error <= s.tolerance) {
       res.converged = true;
       break;
@@ -176,7 +277,9 @@ NlgsResult solve_nlgs(Problem& problem, const NlgsSettings& s, Rng& rng) {
     if (k == 0) checkpoint = res.error;
     if (s.stagnation_window > 0 && k + 1 - checkpoint_at >= s.stagnation_window) {
       if (res.error > 0.9 * checkpoint) {
-        const bool shuffle = s.shuffle_on_stagnation && sweep_order != SweepOrder::kShuffled;
+        // The coloured order stays (a shuffle would give up the threads).
+        const bool shuffle = s.shuffle_on_stagnation && sweep_order != SweepOrder::kShuffled &&
+                             sweep_order != SweepOrder::kColoured;
         if (!shuffle && s.stop_on_stagnation) {
           res.stagnated = true;
           break;
@@ -190,7 +293,7 @@ NlgsResult solve_nlgs(Problem& problem, const NlgsSettings& s, Rng& rng) {
       checkpoint_at = k + 1;
     }
   }
-  res.residual = error_is_residual ? res.error : natural_map_error<d>(problem);
+  res.residual = error_is_residual ? res.error : residual();
   if (res.iterations == 0) {  // max_iterations <= 0: report the state as it is
     res.error = res.residual;
     res.converged = res.residual <= s.tolerance;

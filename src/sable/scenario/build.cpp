@@ -308,7 +308,9 @@ std::unique_ptr<Solver> make_solver(const ScenarioConfig& cfg, World<D>& world) 
       c.local_solver == "exact" ? cd::LocalSolver::kExact : cd::LocalSolver::kBipotential;
   s.nlgs.order = c.sweep == "alternating" ? cd::SweepOrder::kAlternating
                  : c.sweep == "shuffled"  ? cd::SweepOrder::kShuffled
+                 : c.sweep == "coloured"  ? cd::SweepOrder::kColoured
                                           : cd::SweepOrder::kForward;
+  s.colour_block = static_cast<std::size_t>(std::min<std::uint64_t>(c.colour_block, 1u << 30));
   s.nlgs.criterion = c.criterion == "quad"   ? cd::Criterion::kQuad
                      : c.criterion == "maxm" ? cd::Criterion::kMaxm
                                              : cd::Criterion::kNatural;

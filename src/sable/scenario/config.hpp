@@ -53,7 +53,8 @@ struct CdConfig {
   std::uint64_t max_iterations = 1000;       // NLGS sweeps per step at most
   std::string criterion = "natural";         // "natural" | "quad" | "maxm"
   std::string local_solver = "bipotential";  // "bipotential" | "exact"
-  std::string sweep = "forward";             // "forward" | "alternating" | "shuffled"
+  std::string sweep = "forward";             // "forward" | "alternating" | "shuffled" | "coloured"
+  std::uint64_t colour_block = 256;          // "coloured": contacts per block
   double relaxation = 1.0;                   // in (0, 2)
   bool warm_start = true;                    // start each step from the last step's impulses
   std::uint64_t newton_iterations = 0;       // Newton steps where the NLGS stops short (0: none)
