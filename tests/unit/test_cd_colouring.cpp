@@ -129,7 +129,9 @@ TEST(SweepColouring, ContactsWithoutSharedBodiesTakeOneColour) {
 // onto a layer of fixed grains (which contacts of one colour share), with friction, stepped
 // by contact dynamics in the coloured order: some 4,000 contacts in the problem, above the
 // size from which the sweep uses the threads; blocks of 8 contacts give many colours.
-std::string coloured_bed(const std::string& out) {
+// `press`: the box's lid 0.5 mm above the bed and stress-controlled (a wall body, whose
+// contacts run in the serial tail), pressing at 20 Pa.
+std::string coloured_bed(const std::string& out, bool press = false) {
   std::ostringstream s;
   s << "[simulation]\ndimension = 3\nsolver = \"cd\"\nseed = 4\ndt = 2e-4\n"
     << "gravity = [0, 0, -9.81]\n[domain]\nlo = [0, 0, 0]\nhi = [0.012, 0.012, 0.03]\n"
@@ -143,8 +145,9 @@ std::string coloured_bed(const std::string& out) {
     << "spacing = 1.0e-3\njitter = 0.002e-3\ncount = 1200\nvelocity = [0, 0, -0.3]\n"
     << "region = { box = { lo = [0, 0, 0.001], hi = [0.012, 0.012, 0.0125] } }\n"
     << "[[wall]]\nname = \"box\"\ntype = \"box\"\nmaterial = \"g\"\nlo = [0, 0, 0]\n"
-    << "hi = [0.012, 0.012, 0.03]\n"
+    << "hi = [0.012, 0.012, " << (press ? "0.0105" : "0.03") << "]\n"
     << "[[stage]]\nname = \"settle\"\nsteps = 30\n"
+    << (press ? "wall_stress = { \"box.zhi\" = 20.0 }\nservo_max_velocity = 0.5\n" : "")
     << "[output]\ndir = \"" << out << "\"\ncsv_interval = 10\nsnapshot_interval = 20\n"
     << "vtk_interval = 0\nlog_interval = 0\n";
   return s.str();
@@ -176,6 +179,21 @@ TEST(CdColoured, BitIdenticalForOneTwoAndFourThreadsAndOnRestart) {
   const auto cols = sable::test::read_csv_columns(dir / "full" / "series.csv");
   ASSERT_TRUE(cols.count("nlgs_contacts"));
   EXPECT_GE(cols.at("nlgs_contacts").back(), 2048.0);
+  fs::remove_all(dir);
+}
+
+// With a wall body: its contacts run after the colours, one by one; the same bits on 1 and 2
+// threads, and the lid does press on the grains.
+TEST(CdColoured, AWallBodysContactsRunLastWithTheSameBits) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "sable_cd_coloured_press";
+  fs::remove_all(dir);
+  const auto one = sable::test::run_text(coloured_bed((dir / "one").string(), true), {"", true, 1});
+  const auto two = sable::test::run_text(coloured_bed((dir / "two").string(), true), {"", true, 2});
+  EXPECT_EQ(one.state_hash, two.state_hash);
+  const auto cols = sable::test::read_csv_columns(dir / "one" / "series.csv");
+  ASSERT_TRUE(cols.count("wall_box.zhi_fz_N"));
+  EXPECT_GT(cols.at("wall_box.zhi_fz_N").back(), 0.0);  // pushed up by the grains
   fs::remove_all(dir);
 }
 
