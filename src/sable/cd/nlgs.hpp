@@ -108,11 +108,6 @@ LVec<d> solve_local(const LMat<d>& W, const LVec<d>& q, double mu, const LVec<d>
 template <int d, class Problem>
 NlgsResult solve_nlgs(Problem& problem, const NlgsSettings& s, Rng& rng);
 
-// The same sum in fixed chunks of contacts, the chunks' partial sums added in chunk order:
-// what the coloured sweep uses, spread over the threads with the same bits for any count.
-template <int d, class Problem>
-double natural_map_error_chunked(Problem& problem);
-
 // Siconos' error: ||r - P_K(r - (U + mu|U_T| e_N))|| / max(||q||, ||r||, ||U||), all norms over
 // the whole problem, with the problem's extra unknowns if it has them (extra_residual); 0 when
 // all three are zero.

@@ -162,10 +162,6 @@ inline double sweep_criterion(Criterion c, const SweepStats& st, std::size_t n) 
   return safe_ratio(st.du_max, st.u_sum / static_cast<double>(n));
 }
 
-}  // namespace detail
-
-namespace detail {
-
 // The natural map's sums over contacts [a0, a1), added to s = {f2, r2, u2} in index order.
 template <int d, class Problem>
 void natural_map_sums(Problem& problem, std::size_t a0, std::size_t a1, std::array<double, 3>& s) {
@@ -190,8 +186,9 @@ double natural_map_ratio(const Problem& problem, const std::array<double, 3>& s)
 
 inline constexpr std::size_t kErrorChunk = 1024;  // contacts per partial sum
 
-// natural_map_error_chunked with its partial sums in `partial` (resized; reused by the caller
-// from sweep to sweep).
+// natural_map_error's sum in fixed chunks of contacts, the chunks' partial sums (in
+// `partial`, reused by the caller from sweep to sweep) added in chunk order: what the coloured
+// sweep uses, spread over the threads with the same bits for any count.
 template <int d, class Problem>
 double natural_map_error_chunked(Problem& problem, std::vector<std::array<double, 3>>& partial) {
   const std::size_t n = problem.size();
@@ -213,12 +210,6 @@ double natural_map_error(Problem& problem) {
   std::array<double, 3> s = {0.0, 0.0, 0.0};
   detail::natural_map_sums<d>(problem, 0, problem.size(), s);
   return detail::natural_map_ratio(problem, s);
-}
-
-template <int d, class Problem>
-double natural_map_error_chunked(Problem& problem) {
-  std::vector<std::array<double, 3>> partial;
-  return detail::natural_map_error_chunked<d>(problem, partial);
 }
 
 template <int d, class Problem>
