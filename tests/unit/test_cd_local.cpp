@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/QR>
+#include <array>
 #include <cmath>
+#include <complex>
 #include <cstring>
 #include <vector>
 
@@ -277,6 +279,46 @@ TEST(CdLocal, ExactAlwaysSolves2D) {
 }
 TEST(CdLocal, ExactAlwaysSolves3D) {
   exact_random<3>();
+}
+
+// The closed-form quartic of the exact solver's sliding directions, on quartics built from
+// known roots: four real, two real and a complex pair, two pairs, and coefficients spread over
+// 1e-3..1e3. Every root found to 1e-9 relative (simple roots: Ferrari then Newton reaches
+// ~1e-14; 1e-9 leaves room for the spread in size), conjugate pairs returned as pairs.
+TEST(CdLocal, QuarticRootsFromKnownRoots) {
+  using C = std::complex<double>;
+  Rng rng(44);
+  for (int t = 0; t < 3000; ++t) {
+    std::array<C, 4> roots{};
+    const double scale = std::pow(10.0, rng.uniform(-3.0, 3.0));
+    for (C& z : roots) z = scale * rng.uniform(-2.0, 2.0);
+    if (t % 3 >= 1) {  // a complex pair
+      roots[2] = C(roots[2].real(), scale * rng.uniform(0.1, 2.0));
+      roots[3] = std::conj(roots[2]);
+    }
+    if (t % 3 == 2) {  // a second pair
+      roots[0] = C(roots[0].real(), scale * rng.uniform(0.1, 2.0));
+      roots[1] = std::conj(roots[0]);
+    }
+    // A well-separated set only: a near-double root is found to ~sqrt(eps) at best.
+    bool separated = true;
+    for (std::size_t i = 0; i < 4; ++i)
+      for (std::size_t j = i + 1; j < 4; ++j)
+        separated = separated && std::abs(roots[i] - roots[j]) > 0.05 * scale;
+    if (!separated) continue;
+    // c(u) = c4 prod (u - z_i), c4 random in sign and size.
+    std::array<C, 5> c{C(rng.uniform(0.5, 2.0) * (t % 2 ? -1.0 : 1.0))};  // c[k]: u^(4-k)
+    for (std::size_t i = 0; i < 4; ++i) {
+      for (std::size_t k = i + 1; k >= 1; --k) c[k] -= roots[i] * c[k - 1];
+    }
+    const std::array<C, 4> found =
+        quartic_roots(c[0].real(), c[1].real(), c[2].real(), c[3].real(), c[4].real());
+    for (const C& z : roots) {
+      double best = 1e300;
+      for (const C& f : found) best = std::min(best, std::abs(f - z));
+      ASSERT_LE(best, 1e-9 * scale) << "t = " << t << ", root " << z;
+    }
+  }
 }
 
 // --- NLGS on small explicit problems ---------------------------------------------------------

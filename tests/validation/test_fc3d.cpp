@@ -188,6 +188,29 @@ TEST(Fc3dDriver, SolveReport) {
   EXPECT_GE(r.seconds, 0.0);
 }
 
+// Repeated solves (the benchmark's warm time): every solve from r = 0 gives the reactions of
+// the first to the bit (solve_fc throws otherwise), the report is the single solve's (same
+// sweeps, residual and reactions, exactly), and the count respects its bound: 7 solves of a
+// 5-contact problem take far less than the 0.1 s budget, so all 7 run.
+TEST(Fc3dDriver, RepeatedSolvesGiveTheSameBits) {
+  SABLE_NEEDS(fs::is_directory(kDataDir), kDataDir << " does not exist");
+  NlgsSettings s;
+  s.tolerance = 1e-6;
+  s.local = LocalSolver::kExact;
+  const std::string f = (kDataDir / "Rover4609.dat").string();
+  const FcReport once = solve_fc(f, s);
+  const FcReport seven = solve_fc(f, s, 1, 100, {.count = 7, .time_budget = 10.0});
+  EXPECT_EQ(once.repeats, 1);
+  EXPECT_EQ(once.warm_seconds, 0.0);
+  EXPECT_EQ(seven.repeats, 7);
+  EXPECT_GT(seven.warm_seconds, 0.0);
+  EXPECT_EQ(seven.iterations, once.iterations);
+  EXPECT_EQ(seven.residual, once.residual);
+  EXPECT_EQ(seven.reactions, once.reactions);
+  // A zero budget stops after the first solve, whatever the count.
+  EXPECT_EQ(solve_fc(f, s, 1, 100, {.count = 7, .time_budget = 0.0}).repeats, 1);
+}
+
 // --- bad input ------------------------------------------------------------------------------
 
 // A small valid dense problem (2 contacts), broken in one place per test.

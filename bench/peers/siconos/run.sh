@@ -11,6 +11,9 @@
 #     TIMEOUT=S      wall-clock limit of one solve, Siconos or Sable (default 60)
 #     DATA=DIR       problem root holding fc3d/ and fc2d/ (default ../shared/data beside the repository)
 #     PROBLEMS=GLOB  only problem files whose name matches, extglob (default: all)
+#     INPROC=K       solves of one problem in one process, Sable and Siconos alike (default 10):
+#                    the first is the cold time, the median of the others the warm time;
+#                    further solves only while the process's solves took < 0.1 s in all
 # Writes results.md (the tables) and raw.tsv (one line per run) next to this script.
 set -euo pipefail
 shopt -s extglob  # PROBLEMS may be an extended glob: '@(Rover*|NESpheres*)'
@@ -23,6 +26,7 @@ WORK=${WORK:-/tmp/siconos-bench}
 TIMEOUT=${TIMEOUT:-60}
 DATA=${DATA:-$root/../shared/data}
 PROBLEMS=${PROBLEMS:-*}
+INPROC=${INPROC:-10}
 PY=/usr/bin/python3
 TOLS="1e-4 1e-6"
 # Candidates for "Siconos best"; NSGS is one of them. The 2D ones are all fc2d offers
@@ -45,7 +49,7 @@ gcc -O2 -std=c11 -D_POSIX_C_SOURCE=199309L -Wall -Wextra \
 
 siconos_version=$(dpkg -s libsiconos-numerics7 | sed -n 's/^Version: //p')
 raw=$here/raw.tsv
-printf 'problem\tdim\tcontacts\ttol\tcode\tsolver\trepeat\tstatus\tinfo\titerations\tseconds\tself_error\tindep_error\n' >"$raw"
+printf 'problem\tdim\tcontacts\ttol\tcode\tsolver\trepeat\tstatus\tinfo\titerations\tseconds\tself_error\tindep_error\twarm_seconds\tsolves\n' >"$raw"
 
 # One row of raw.tsv. status: ok | timeout (S s) | crash (rc N) | exit N (Sable) | unreadable
 # (Siconos cannot read the file: no independent error for anyone on it)
@@ -83,12 +87,17 @@ for ((rep = 1; rep <= REPEATS; rep++)); do
       out=$WORK/sable.out reac=$WORK/sable.reactions
       rm -f "$reac"
       set +e
-      timeout "$TIMEOUT" "$SABLE" fc3d "$f" --tolerance "$tol" --reactions "$reac" >"$out" 2>&1
+      timeout "$TIMEOUT" "$SABLE" fc3d "$f" --tolerance "$tol" --reactions "$reac" \
+        --repeat "$INPROC" >"$out" 2>&1
       rc=$?
       set -e
       iters=$(sed -n 's/^ *iterations *//p' "$out" | tr '\t' ' ')
       secs=$(sed -n 's/^ *time *\([0-9.eE+-]*\) s$/\1/p' "$out")
       self=$(sed -n 's/^ *residual *//p' "$out")
+      # "warm time   0.000002 s (median of 9 more solves)": absent after a single solve
+      warm=$(sed -n 's/^ *warm time *\([0-9.eE+-]*\) s.*/\1/p' "$out")
+      solves=$(sed -n 's/^ *warm time .*median of \([0-9]*\) more.*/\1/p' "$out")
+      solves=$((${solves:-0} + 1))
       # Sable exits 1 when it stops short of the tolerance but still reports and writes its
       # answer: that is a finished run (the judge says "not converged"), not a failure.
       status=ok indep=""
@@ -98,7 +107,7 @@ for ((rep = 1; rep <= REPEATS; rep++)); do
         indep=$("$driver" "$f" --reactions "$reac" | sed -n 's/^REACTIONS //p')
       fi
       row "$name" "${dim[$f]:-3}" "${nc[$f]}" "$tol" sable sable "$rep" "$status" "$rc" \
-        "$iters" "$secs" "$self" "$indep"
+        "$iters" "$secs" "$self" "$indep" "${warm:-0}" "$solves"
 
       # --- Siconos: every candidate solver, one process per solve.
       if [ -z "${dim[$f]}" ]; then
@@ -110,14 +119,15 @@ for ((rep = 1; rep <= REPEATS; rep++)); do
         key="$f|$s|$tol"
         [ -z "${skip[$key]:-}" ] || continue
         set +e
-        timeout "$TIMEOUT" "$driver" "$f" --solver "$s" --tol "$tol" >"$WORK/siconos.out" 2>&1
+        timeout "$TIMEOUT" "$driver" "$f" --solver "$s" --tol "$tol" --repeat "$INPROC" \
+          >"$WORK/siconos.out" 2>&1
         rc=$?
         set -e
         res=$(grep '^RESULT ' "$WORK/siconos.out" || true) # Siconos may print more lines
         if [ $rc -eq 0 ] && [ -n "$res" ]; then
-          read -r _ _ _ info iters secs self indep <<<"$res"
+          read -r _ _ _ info iters secs self indep warm solves <<<"$res"
           row "$name" "${dim[$f]}" "${nc[$f]}" "$tol" siconos "$s" "$rep" ok "$info" \
-            "$iters" "$secs" "$self" "$indep"
+            "$iters" "$secs" "$self" "$indep" "$warm" "$solves"
         else
           status="crash (rc $rc)"
           [ $rc -eq 124 ] && status="timeout (${TIMEOUT} s)"
@@ -132,6 +142,7 @@ for ((rep = 1; rep <= REPEATS; rep++)); do
 done
 
 cmd="bench/peers/siconos/run.sh $REPEATS"
+[ "$INPROC" = 10 ] || cmd="INPROC=$INPROC $cmd"
 [ "$TIMEOUT" = 60 ] || cmd="TIMEOUT=$TIMEOUT $cmd"
 [ "$PROBLEMS" = "*" ] || cmd="PROBLEMS='$PROBLEMS' $cmd"
 "$PY" "$here/table.py" "$raw" "$here/results.md" \
@@ -142,5 +153,5 @@ min $(sort -g "$WORK/load.samples" | head -1), max $(sort -g "$WORK/load.samples
   --siconos "libsiconos-numerics7 $siconos_version (Debian)" \
   --sable "$("$SABLE" --version), binary $SABLE (sha256 $(sha256sum "$SABLE" | cut -c1-12), \
 $(stat -c %y "$SABLE" | cut -c1-16))" \
-  --command "$cmd" --repeats "$REPEATS" --timeout "$TIMEOUT"
+  --command "$cmd" --repeats "$REPEATS" --timeout "$TIMEOUT" --inproc "$INPROC"
 cat "$here/results.md"

@@ -2,7 +2,9 @@
 """Turns raw.tsv (one line per run, written by run.sh) into results.md.
 
 Per (problem, tolerance, solver): the median solve time over the repeats, the iterations of
-the median run, the largest independent error over the repeats. "Converged" means every repeat
+the median run, the largest independent error over the repeats. A run's time is its warm time
+(the median of its solves after the first, in one process) when it solved more than once, else
+its one solve's; its cold time is its first solve's (a fresh process: page faults included). "Converged" means every repeat
 ran to the end and its independent error is <= the tolerance: the same judge for both codes,
 whatever each solver says about itself. "Siconos best" is the converged Siconos candidate with
 the smallest median time (NSGS included)."""
@@ -36,6 +38,13 @@ def sable_iters(text):
     return m.group(1) + (f"+{m.group(2)}N" if m.group(2) else "")
 
 
+def run_time(r):
+    """A run's warm time when it solved more than once, else its one solve's time."""
+    warm = fnum(r.get("warm_seconds"))
+    solves = fnum(r.get("solves")) or 1
+    return warm if solves > 1 and warm is not None else fnum(r["seconds"])
+
+
 class Group:
     """The repeats of one solver on one problem at one tolerance."""
 
@@ -43,10 +52,13 @@ class Group:
         self.rows = rows
         ok = [r for r in rows if r["status"] == "ok"]
         self.failure = next((r["status"] for r in rows if r["status"] != "ok"), None)
-        times = [fnum(r["seconds"]) for r in ok if fnum(r["seconds"]) is not None]
+        ok = [r for r in ok if fnum(r["seconds"]) is not None]
+        times = [run_time(r) for r in ok]
         self.time = statistics.median(times) if times else None
+        colds = [fnum(r["seconds"]) for r in ok]
+        self.cold = statistics.median(colds) if colds else None
         # iterations of the run whose time is closest to the median (they rarely differ)
-        mid = min(ok, key=lambda r: abs(fnum(r["seconds"]) - self.time)) if times else None
+        mid = min(ok, key=lambda r: abs(run_time(r) - self.time)) if times else None
         self.iters = mid["iterations"] if mid else ""
         indeps = [fnum(r["indep_error"]) for r in ok]
         self.indep = max(indeps) if indeps and None not in indeps else None
@@ -60,7 +72,8 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("raw")
     ap.add_argument("out")
-    for k in ("machine", "date", "load", "siconos", "sable", "command", "repeats", "timeout"):
+    for k in ("machine", "date", "load", "siconos", "sable", "command", "repeats", "timeout",
+              "inproc"):
         ap.add_argument("--" + k, required=True)
     a = ap.parse_args()
 
@@ -83,7 +96,15 @@ def main():
              "machine competes for its 2 cores: what runs beside the benchmark shows in the "
              "times, most on the largest problems (compare medians, not single runs).")
     L.append(f"- Siconos: {a.siconos}; Sable: {a.sable}")
-    L.append(f"- Command: `{a.command}` (one solve per process, {a.timeout} s limit each)")
+    L.append(f"- Command: `{a.command}` (one problem per process, {a.timeout} s limit each)")
+    L.append(f"- Each process solves its problem up to {a.inproc} times from r = 0 (Siconos: "
+             "a freshly read copy and fresh options each time), further solves only while "
+             "its solves took under 0.1 s in all. A run's time is its warm time, the median of "
+             "its solves after the first (a solver called step after step), or its one solve's "
+             "when it solved once (the long problems, where start-up costs are negligible); "
+             "the cold time (the first solve in a fresh process, page faults of the first touch "
+             "of code and data included) is summed in the totals. Iterations and errors are "
+             "the first solve's (Sable checks that its later solves give the same bits).")
     L.append("- Times are solve only (file reading excluded), in ms. e = independent error "
              "(siconos_fc.c, the same routine for both codes; largest over the repeats). "
              "ok = every repeat finished with e <= tolerance. Iterations as each solver "
@@ -105,6 +126,7 @@ def main():
         L.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
         per_solver = defaultdict(lambda: [0, 0.0])  # solver -> [count, sum of times]
         head = defaultdict(list)  # which solver converged where, with its time
+        cold = defaultdict(float)  # sable / NSGS / best -> sum of cold times where converged
         for name, (dim, nc) in problems.items():
             sg = Group(by[(name, tol_s, "sable", "sable")], tol)
             s_cells = [sable_iters(sg.iters), ms(sg.time)]
@@ -118,6 +140,7 @@ def main():
                 s_cells[0] = sg.failure
             if sg.converged:
                 head["sable"].append((name, sg.time))
+                cold["sable"] += sg.cold
             groups = {k[3]: Group(v, tol) for k, v in by.items()
                       if k[0] == name and k[1] == tol_s and k[2] == "siconos"}
             for s, g in groups.items():
@@ -129,12 +152,14 @@ def main():
                         "yes" if ng.converged else "no"] if ng else ["—"] * 4)
             if ng and ng.converged:
                 head["NSGS"].append((name, ng.time))
+                cold["NSGS"] += ng.cold
             conv = [(g.time, s) for s, g in groups.items() if g.converged]
             if conv:
                 t, s = min(conv)
                 bg = groups[s]
                 b_cells = [s, bg.iters, ms(bg.time), err(bg.indep)]
                 head["best"].append((name, t))
+                cold["best"] += bg.cold
             else:
                 done = [(g.indep, s) for s, g in groups.items() if g.indep is not None]
                 lo = min(done) if done else (None, "—")
@@ -146,13 +171,14 @@ def main():
         L.append("")
         L.append(f"Totals at {tol_s} over the {n_judged} problems Siconos can read "
                  f"(sum of median times over the problems each converged on):\n")
-        L.append("| solver | converged | sum of medians (ms) |")
-        L.append("|---|---|---|")
+        L.append("| solver | converged | sum of medians (ms) | cold: sum of first solves (ms) |")
+        L.append("|---|---|---|---|")
         for label, key in (("Sable", "sable"), ("Siconos NSGS", "NSGS"), ("Siconos best", "best")):
             h = head[key]
-            L.append(f"| {label} | {len(h)}/{n_judged} | {ms(sum(t for _, t in h))} |")
+            L.append(f"| {label} | {len(h)}/{n_judged} | {ms(sum(t for _, t in h))} "
+                     f"| {ms(cold[key])} |")
         for s, (c, t) in sorted(per_solver.items(), key=lambda x: (-x[1][0], x[1][1])):
-            L.append(f"| Siconos {s} (candidate) | {c}/{n_judged} | {ms(t)} |")
+            L.append(f"| Siconos {s} (candidate) | {c}/{n_judged} | {ms(t)} | |")
         # head to head on the problems both converged on: sums over the same set
         for other in ("NSGS", "best"):
             s_t = dict(head["sable"])

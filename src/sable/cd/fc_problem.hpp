@@ -118,16 +118,27 @@ struct FcReport {
   bool stagnated = false;         // the NLGS stagnated (after its shuffle) and handed over
   int newton_iterations = 0;      // the semismooth Newton's (fc_newton.hpp), after the NLGS
   bool newton_restarted = false;  // Newton from r = 0 failed and ran from the NLGS's iterate
-  double seconds = 0.0;           // solve wall time (reading the file excluded)
+  double seconds = 0.0;           // the first solve's wall time (reading the file excluded)
+  int repeats = 1;                // solves run (FcRepeats)
+  double warm_seconds = 0.0;      // median wall time of the solves after the first (0: none)
   std::vector<double> reactions;  // the solution, d values per contact ([N, T] or [N, T1, T2])
+};
+
+// How often solve_fc solves the problem: `count` solves at most, further ones only while the
+// solves so far took less than `time_budget` seconds in all (so a benchmark repeats the small
+// problems, where a first solve's start-up costs show, and not the long ones).
+struct FcRepeats {
+  int count = 1;
+  double time_budget = 0.1;
 };
 
 // Reads `path`, solves it from r = 0 with the NLGS (`seed` for the shuffled order) and, if
 // that stops short of the tolerance, with at most `newton_iterations` steps of the
 // semismooth Newton of fc_newton.hpp (from r = 0, then, if that fails, from the NLGS's
-// iterate); reports.
+// iterate); reports. With repeats, solves it again from r = 0 (the same bits, checked) and
+// reports the first solve's time and the median of the others.
 FcReport solve_fc(const std::string& path, const NlgsSettings& s, std::uint64_t seed = 1,
-                  int newton_iterations = 100);
+                  int newton_iterations = 100, const FcRepeats& repeats = {});
 
 // --- for the readers: a matrix from its scalar entries, and the checks every problem passes
 

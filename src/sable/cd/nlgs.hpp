@@ -12,6 +12,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
+#include <complex>
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -97,6 +99,11 @@ LVec<d> project_cone(const LVec<d>& x, double mu);
 // The natural map of one contact: r - P_K(r - (U + mu |U_T| e_N)). Zero iff solved.
 template <int d>
 LVec<d> natural_map(const LVec<d>& r, const LVec<d>& U, double mu);
+
+// The four roots of c4 u^4 + c3 u^3 + c2 u^2 + c1 u + c0 (c4 != 0; complex roots as conjugate
+// pairs), in closed form: the exact local solver's sliding directions (local_solvers.cpp).
+std::array<std::complex<double>, 4> quartic_roots(double c4, double c3, double c2, double c1,
+                                                  double c0);
 
 // Solve the one-contact problem U = W r + q (W = W_aa, q = U_a - W_aa r_a, everything else
 // frozen) for r in K_mu. `r` holds the current value on entry (a starting guess).
