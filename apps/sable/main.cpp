@@ -151,7 +151,8 @@ int cmd_fc3d(const std::string& file, const Fc3dOptions& o) {
       r.reordered_at < 0 ? ""
                          : fmt::format(", shuffled from sweep {} (stagnating)", r.reordered_at + 1),
       r.iterations,
-      r.newton_iterations == 0
+      r.enumerated ? std::string(" (solved by enumerating the contacts' states)")
+      : r.newton_iterations == 0
           ? ""
           : fmt::format(" NLGS sweeps{}, then {} Newton steps{}",
                         r.stagnated ? " (stagnating)" : "", r.newton_iterations,

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <vector>
 
+#include "sable/cd/fc_enumerate.hpp"
 #include "sable/cd/fc_problem.hpp"
 #include "sable/cd/nlgs.hpp"
 
@@ -319,6 +320,33 @@ TEST(CdLocal, QuarticRootsFromKnownRoots) {
       ASSERT_LE(best, 1e-9 * scale) << "t = " << t << ", root " << z;
     }
   }
+}
+
+// The enumeration of fc_enumerate.hpp on random 2-contact 2D problems: W symmetric positive
+// definite (eigenvalues in [1, 100]), q random, mu in [0, 1]. A solution exists for any mu with
+// such a W (Klarbring & Pang 1998), so one of the 16 combinations holds: the enumeration must
+// succeed every time, to Siconos' error 1e-12 (the round-off of a 4 x 4 solve is ~1e-14 here).
+// A 3-contact problem is beyond it: false, reactions left at zero.
+TEST(CdLocal, EnumerationSolvesEveryTwoContactProblem) {
+  Rng rng(45);
+  for (int t = 0; t < 500; ++t) {
+    const LMat<4> W = random_spd<4>(rng, 100.0);
+    std::vector<LMat<2>> blocks;
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) blocks.push_back(W.block<2, 2>(2 * a, 2 * b));
+    const std::vector<LVec<2>> q{LVec<2>(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0)),
+                                 LVec<2>(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0))};
+    MatrixProblem<2> p({0, 2, 4}, {0, 1, 0, 1}, blocks, q,
+                       {rng.uniform(0.0, 1.0), rng.uniform(0.0, 1.0)});
+    ASSERT_TRUE(solve_enumeration_2d(p, 1e-12)) << "t = " << t;
+    EXPECT_LE(fc_residual<2>(p), 1e-12);
+  }
+  std::vector<LMat<2>> diag(3, LMat<2>::Identity());
+  MatrixProblem<2> three({0, 1, 2, 3}, {0, 1, 2}, diag,
+                         {LVec<2>(-1.0, 0.0), LVec<2>(-1.0, 0.0), LVec<2>(-1.0, 0.0)},
+                         {0.5, 0.5, 0.5});
+  EXPECT_FALSE(solve_enumeration_2d(three, 1e-12));
+  for (const LVec<2>& r : three.reactions()) EXPECT_EQ(r, LVec<2>::Zero());
 }
 
 // --- NLGS on small explicit problems ---------------------------------------------------------

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "../unit/test_data.hpp"
+#include "sable/cd/fc_enumerate.hpp"
 #include "sable/cd/fc_newton.hpp"
 #include "sable/cd/fc_problem.hpp"
 #include "sable/core/error.hpp"
@@ -210,7 +211,7 @@ TEST(FcDefaults, EverySharedProblemReachesBothTolerances) {
         files.push_back(e.path());
   std::sort(files.begin(), files.end());
   EXPECT_EQ(files.size(), 41u);  // 29 + 3 in fc3d, 9 in fc2d
-  int handed_over = 0;
+  int handed_over = 0, enumerated = 0;
   for (const double tol : {1e-4, 1e-6}) {
     for (const fs::path& f : files) {
       SCOPED_TRACE(f.filename().string() + " at " + std::to_string(tol));
@@ -221,9 +222,14 @@ TEST(FcDefaults, EverySharedProblemReachesBothTolerances) {
       EXPECT_TRUE(r.converged);
       EXPECT_LE(r.residual, tol);
       handed_over += r.newton_iterations > 0 ? 1 : 0;
+      // Only 2D problems of at most kEnumerateMaxContacts contacts are enumerated (of the set:
+      // FC2D_SliderCrankLagrangian00000, 2 contacts, where the NLGS needed 166 sweeps).
+      EXPECT_EQ(r.enumerated, r.dimension == 2 && r.contacts <= kEnumerateMaxContacts);
+      enumerated += r.enumerated ? 1 : 0;
     }
   }
   EXPECT_GE(handed_over, 3);  // the Newton fallback is needed, not idle
+  EXPECT_EQ(enumerated, 2);   // the slider crank, at both tolerances
 }
 
 // Siconos' OneObject-i100000-316 is a problem where the forward sweep cycles: 1,000 forward

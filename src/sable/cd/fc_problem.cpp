@@ -15,6 +15,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "sable/cd/fc_enumerate.hpp"
 #include "sable/cd/fc_newton.hpp"
 #include "sable/core/error.hpp"
 
@@ -176,6 +177,16 @@ FcReport solve_fc_once(MatrixProblem<d>& p, const NlgsSettings& s, std::uint64_t
   p.reset_reactions();
   Rng rng(seed);
   const auto t0 = std::chrono::steady_clock::now();
+  if constexpr (d == 2) {
+    if (p.size() <= kEnumerateMaxContacts && solve_enumeration_2d(p, s.tolerance)) {
+      FcReport rep;
+      rep.dimension = d;
+      rep.contacts = p.size();
+      rep.converged = rep.enumerated = true;
+      rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      return rep;
+    }
+  }
   NlgsSettings first = s;
   first.stop_on_stagnation = s.stagnation_window > 0 && newton_iterations > 0;
   NlgsResult res = solve_nlgs<d>(p, first, rng);

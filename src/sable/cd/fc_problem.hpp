@@ -118,6 +118,7 @@ struct FcReport {
   bool stagnated = false;         // the NLGS stagnated (after its shuffle) and handed over
   int newton_iterations = 0;      // the semismooth Newton's (fc_newton.hpp), after the NLGS
   bool newton_restarted = false;  // Newton from r = 0 failed and ran from the NLGS's iterate
+  bool enumerated = false;        // solved by fc_enumerate.hpp (tiny 2D problems), no sweep
   double seconds = 0.0;           // the first solve's wall time (reading the file excluded)
   int repeats = 1;                // solves run (FcRepeats)
   double warm_seconds = 0.0;      // median wall time of the solves after the first (0: none)
@@ -132,7 +133,8 @@ struct FcRepeats {
   double time_budget = 0.1;
 };
 
-// Reads `path`, solves it from r = 0 with the NLGS (`seed` for the shuffled order) and, if
+// Reads `path`, solves it from r = 0 (a 2D problem of at most kEnumerateMaxContacts contacts
+// first by enumeration, fc_enumerate.hpp) with the NLGS (`seed` for the shuffled order) and, if
 // that stops short of the tolerance, with at most `newton_iterations` steps of the
 // semismooth Newton of fc_newton.hpp (from r = 0, then, if that fails, from the NLGS's
 // iterate); reports. With repeats, solves it again from r = 0 (the same bits, checked) and
