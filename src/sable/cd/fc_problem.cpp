@@ -169,62 +169,58 @@ double fc_residual(const MatrixProblem<d>& p) {
 
 namespace {
 
-// One solve from r = 0: the NLGS, then the Newton fallback; the report without the residual
-// and the reactions (filled by solve_fc after the last repeat).
+// The NLGS, then the Newton fallback, from the problem's reactions; their counts into `rep`.
 template <int d>
-FcReport solve_fc_once(MatrixProblem<d>& p, const NlgsSettings& s, std::uint64_t seed,
-                       int newton_iterations) {
-  p.reset_reactions();
-  Rng rng(seed);
-  const auto t0 = std::chrono::steady_clock::now();
-  if constexpr (d == 2) {
-    if (p.size() <= kEnumerateMaxContacts && solve_enumeration_2d(p, s.tolerance)) {
-      FcReport rep;
-      rep.dimension = d;
-      rep.contacts = p.size();
-      rep.converged = rep.enumerated = true;
-      rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      return rep;
-    }
-  }
+void solve_iteratively(MatrixProblem<d>& p, const NlgsSettings& s, Rng& rng, int newton_iterations,
+                       FcReport& rep) {
   NlgsSettings first = s;
   first.stop_on_stagnation = s.stagnation_window > 0 && newton_iterations > 0;
-  NlgsResult res = solve_nlgs<d>(p, first, rng);
-  NewtonResult newton;
-  bool restarted = false;
-  if (!res.converged && std::isfinite(res.residual) && newton_iterations > 0) {
-    const NewtonSettings ns{.tolerance = s.tolerance, .max_iterations = newton_iterations};
-    // Newton from r = 0 first: from the NLGS's stalled iterate it often stalls too
-    // (spheres-in-a-box-98: 17 steps from zero, no convergence in 100 from the NLGS's;
-    // the silo's capped steps alike), from zero it converged on every problem tried but
-    // one. That one (a Newton from zero stalling) gets a second try from the NLGS's
-    // iterate; the better of the two is kept.
-    const std::vector<LVec<d>> nlgs(p.reactions().begin(), p.reactions().end());
-    p.reset_reactions();
-    newton = solve_newton_ac<d>(p, ns);
-    if (!newton.converged) {
-      const std::vector<LVec<d>> cold(p.reactions().begin(), p.reactions().end());
-      p.set_reactions(nlgs);
-      const NewtonResult warm = solve_newton_ac<d>(p, ns);
-      if (!(warm.residual <= newton.residual)) p.set_reactions(cold);
-      newton.iterations += warm.iterations;
-      newton.converged = warm.converged;
-      restarted = true;
-    }
-    res.converged = newton.converged;
-  }
-  const auto t1 = std::chrono::steady_clock::now();
-  FcReport rep;
-  rep.dimension = d;
-  rep.contacts = p.size();
+  const NlgsResult res = solve_nlgs<d>(p, first, rng);
   rep.iterations = res.iterations;
   rep.error = res.error;
   rep.converged = res.converged;
   rep.reordered_at = res.reordered_at;
   rep.stagnated = res.stagnated;
+  if (res.converged || !std::isfinite(res.residual) || newton_iterations <= 0) return;
+  const NewtonSettings ns{.tolerance = s.tolerance, .max_iterations = newton_iterations};
+  // Newton from r = 0 first: from the NLGS's stalled iterate it often stalls too
+  // (spheres-in-a-box-98: 17 steps from zero, no convergence in 100 from the NLGS's;
+  // the silo's capped steps alike), from zero it converged on every problem tried but
+  // one. That one (a Newton from zero stalling) gets a second try from the NLGS's
+  // iterate; the better of the two is kept.
+  const std::vector<LVec<d>> nlgs(p.reactions().begin(), p.reactions().end());
+  p.reset_reactions();
+  NewtonResult newton = solve_newton_ac<d>(p, ns);
+  if (!newton.converged) {
+    const std::vector<LVec<d>> cold(p.reactions().begin(), p.reactions().end());
+    p.set_reactions(nlgs);
+    const NewtonResult warm = solve_newton_ac<d>(p, ns);
+    if (!(warm.residual <= newton.residual)) p.set_reactions(cold);
+    newton.iterations += warm.iterations;
+    newton.converged = warm.converged;
+    rep.newton_restarted = true;
+  }
   rep.newton_iterations = newton.iterations;
-  rep.newton_restarted = restarted;
-  rep.seconds = std::chrono::duration<double>(t1 - t0).count();
+  rep.converged = newton.converged;
+}
+
+// One solve from r = 0 (a 2D problem small enough by enumeration, any other iteratively): the
+// report without the residual and the reactions (filled by solve_fc after the last repeat).
+template <int d>
+FcReport solve_fc_once(MatrixProblem<d>& p, const NlgsSettings& s, std::uint64_t seed,
+                       int newton_iterations) {
+  p.reset_reactions();
+  Rng rng(seed);
+  FcReport rep;
+  rep.dimension = d;
+  rep.contacts = p.size();
+  const auto t0 = std::chrono::steady_clock::now();
+  if constexpr (d == 2) rep.enumerated = solve_enumeration_2d(p, s.tolerance);
+  if (rep.enumerated)
+    rep.converged = true;
+  else
+    solve_iteratively<d>(p, s, rng, newton_iterations, rep);
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }
 
