@@ -11,32 +11,24 @@ Needs Debian's python3-matplotlib and python3-numpy.
 import argparse
 import glob
 import os
-import xml.etree.ElementTree as ET
+import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import vtkxml  # noqa: E402
 from matplotlib.collections import LineCollection, PatchCollection  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
 
 def read_vtp(path):
-    """Points and the named point/cell arrays of an ASCII VTK PolyData file."""
-    piece = ET.parse(path).getroot().find("PolyData/Piece")
-    arrays = {}
-    for section in ("PointData", "CellData"):
-        node = piece.find(section)
-        if node is None:
-            continue
-        for da in node.findall("DataArray"):
-            ncomp = int(da.get("NumberOfComponents", "1"))
-            values = np.array((da.text or "").split(), dtype=float)
-            arrays[da.get("Name")] = values.reshape(-1, ncomp) if ncomp > 1 else values
-    pts = piece.find("Points/DataArray")
-    points = np.array((pts.text or "").split(), dtype=float).reshape(-1, 3)
-    return points, arrays
+    """Points and the named point/cell arrays of a VTK PolyData file (any encoding)."""
+    f = vtkxml.read(path)
+    return f.points, {**f.point_data, **f.cell_data}
 
 
 def main():

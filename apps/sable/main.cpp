@@ -212,6 +212,8 @@ CLI::App* add_analyze(CLI::App& app, sable::AnalyzeOptions& a) {
   an->add_option("--spacing", a.spacing, "field grid spacing in m (default: the kernel width)");
   an->add_option("--line", a.line, "fields along a segment from:to:points, e.g. 0,0,0:0,0,1:50");
   an->add_option("--kernel", a.kernel, "sphere | gaussian | lucy (default sphere)");
+  an->add_option("--vtk-format", a.vtk_format,
+                 "fields.vti: binary (raw, default) | zlib (compressed) | ascii");
   an->add_option("--width", a.width, "kernel radius/width in m (default: 2 mean diameters)");
   an->add_option("--frame", a.frame, "rotating frame px,py,pz:ux,uy,uz (point and axis)");
   an->add_option("--omega", a.omega,

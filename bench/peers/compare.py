@@ -35,7 +35,10 @@ import os
 import re
 import statistics
 import sys
-import xml.etree.ElementTree as ET
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                "scripts"))
+import vtkxml  # noqa: E402
 
 RHO = 2500.0
 G = 9.81
@@ -188,20 +191,13 @@ def parse_series_last(path):
 
 
 def parse_vtp_grains(path):
-    root = ET.parse(path).getroot()
-    piece = root.find("PolyData/Piece")
-    n = int(piece.get("NumberOfPoints"))
-
-    def array(parent, name):
-        for da in piece.find(parent).findall("DataArray"):
-            if da.get("Name") == name:
-                return [float(v) for v in da.text.split()]
-        raise ValueError(f"{path}: no DataArray {name} in {parent}")
-
-    xyz = array("Points", "Points")
-    pos = [tuple(xyz[3 * k:3 * k + 3]) for k in range(n)]
-    return {"pos": pos, "radius": array("PointData", "radius"),
-            "coord": array("PointData", "coordination")}
+    f = vtkxml.read(path)
+    for name in ("radius", "coordination"):
+        if name not in f.point_data:
+            raise ValueError(f"{path}: no DataArray {name} in PointData")
+    return {"pos": [tuple(p) for p in f.points.tolist()],
+            "radius": f.point_data["radius"].tolist(),
+            "coord": [float(z) for z in f.point_data["coordination"]]}
 
 
 def last_vtp(vtk_dir):

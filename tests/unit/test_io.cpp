@@ -213,9 +213,11 @@ int check_vtp(const std::string& args) {
 
 // Guards: the .vtp files are well-formed XML whose declared point and cell counts match the
 // data arrays, with one vertex per grain, one line per touching pair and the expected wall
-// cells, so ParaView opens them. Counts are integers: compared exactly.
+// cells, so ParaView opens them, in each of the three encodings (the appended sections'
+// byte counts and zlib blocks decoded by scripts/vtkxml.py). Counts are integers: compared
+// exactly.
 template <int D>
-void check_vtk_outputs(const std::string& dir) {
+void check_vtk_outputs(const std::string& dir, sable::VtkEncoding enc) {
   World<D> w = make_world<D>();
   sable::DemSolver<D> solver(w);
   solver.initialize();
@@ -223,36 +225,45 @@ void check_vtk_outputs(const std::string& dir) {
   const std::size_t n = w.particles.size(), contacts = touching_pairs(w.neighbors.pairs);
   ASSERT_GT(contacts, 0u) << "the test world should have touching grains";
   const std::string g = dir + "/grains.vtp", c = dir + "/contacts.vtp", wl = dir + "/walls.vtp";
-  sable::write_grains_vtp(w, g);
-  sable::write_contacts_vtp(w, c);
-  sable::write_walls_vtp(w, wl);
+  sable::write_grains_vtp(w, g, enc);
+  sable::write_contacts_vtp(w, c, enc);
+  sable::write_walls_vtp(w, wl, enc);
+  const std::string format = fmt::format(" --format {}", sable::vtk_encoding_name(enc));
   EXPECT_EQ(check_vtp(fmt::format("'{}' --points {} --cells {} --arrays {}", g, n, n,
                                   "id,radius,velocity,angular_velocity,force,coordination,"
-                                  "material,fixed")),
+                                  "material,fixed") +
+                      format),
             0);
   EXPECT_EQ(
       check_vtp(fmt::format("'{}' --points {} --cells {} --arrays {}", c, 2 * contacts, contacts,
-                            "normal_force,normal_force_vector,tangential_force,id_i,id_j")),
+                            "normal_force,normal_force_vector,tangential_force,id_i,id_j") +
+                format),
       0);
   // 2D: floor and ramp segments. 3D: floor and ramp polygons plus 64 x 2 drum triangles.
   const std::size_t wall_cells = D == 2 ? 2 : 2 + 128;
-  EXPECT_EQ(check_vtp(fmt::format("'{}' --cells {} --arrays wall,force", wl, wall_cells)), 0);
+  EXPECT_EQ(check_vtp(fmt::format("'{}' --cells {} --arrays wall,force", wl, wall_cells) + format),
+            0);
   // The grains file starts exactly with the XML declaration ParaView expects.
   EXPECT_EQ(read_file(g).rfind("<?xml version=\"1.0\"?>\n", 0), 0u);
 }
 
 TEST_F(IoTest, VtkFilesParseWithMatchingCounts2D) {
   SABLE_NEEDS(fs::exists("/usr/bin/python3"), "needs /usr/bin/python3");
-  check_vtk_outputs<2>(dir_.string());
+  for (auto enc :
+       {sable::VtkEncoding::kBinary, sable::VtkEncoding::kZlib, sable::VtkEncoding::kAscii})
+    check_vtk_outputs<2>(dir_.string(), enc);
 }
 
 TEST_F(IoTest, VtkFilesParseWithMatchingCounts3D) {
   SABLE_NEEDS(fs::exists("/usr/bin/python3"), "needs /usr/bin/python3");
-  check_vtk_outputs<3>(dir_.string());
+  for (auto enc :
+       {sable::VtkEncoding::kBinary, sable::VtkEncoding::kZlib, sable::VtkEncoding::kAscii})
+    check_vtk_outputs<3>(dir_.string(), enc);
 }
 
 // Guards: a file larger than the writer's 64 KiB pieces (8,000 extra grains: ~0.5 MB of
-// text) comes out whole, one well-formed file with every grain, as a small one does.
+// text, and zlib arrays of several 32 KiB blocks) comes out whole, one well-formed file with
+// every grain, as a small one does.
 TEST_F(IoTest, VtkFileWrittenInPiecesIsWhole) {
   SABLE_NEEDS(fs::exists("/usr/bin/python3"), "needs /usr/bin/python3");
   World<3> w = make_world<3>();
@@ -260,10 +271,14 @@ TEST_F(IoTest, VtkFileWrittenInPiecesIsWhole) {
     for (int col = 0; col < 100; ++col)
       w.particles.add(Eigen::Vector3d(0.001 * col, 0.001 * row, 0.2), kR, 2500.0, 0, w.thickness);
   const std::size_t n = w.particles.size();
-  sable::write_grains_vtp(w, path("big.vtp"));
+  sable::write_grains_vtp(w, path("big.vtp"), sable::VtkEncoding::kAscii);
   EXPECT_GT(fs::file_size(path("big.vtp")), 4u * 65536u) << "the test must span several pieces";
   EXPECT_EQ(check_vtp(fmt::format("'{}' --points {} --cells {} --arrays {}", path("big.vtp"), n, n,
                                   "id,radius,velocity,force")),
+            0);
+  sable::write_grains_vtp(w, path("big_z.vtp"), sable::VtkEncoding::kZlib);
+  EXPECT_EQ(check_vtp(fmt::format("'{}' --points {} --format zlib --arrays velocity",
+                                  path("big_z.vtp"), n)),
             0);
   EXPECT_FALSE(fs::exists(sable::atomic_temp_path(path("big.vtp")))) << "temporary left behind";
 }

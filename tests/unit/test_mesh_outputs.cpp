@@ -72,7 +72,7 @@ TEST_F(MeshOutputs, WallsVtpHasOneCellPerTriangleAtTheTurnedPose) {
   EXPECT_LE((sum - paddle.force).norm(), 1e-12 * paddle.force.norm());
 
   const std::string file = path("walls.vtp");
-  sable::write_walls_vtp(w, file);
+  sable::write_walls_vtp(w, file, sable::VtkEncoding::kAscii);  // vtk_array reads text
   const std::string text = sable::test::slurp(file);
   const auto points = vtk_array(text, "Points");
   const auto connectivity = vtk_array(text, "connectivity");

@@ -15,6 +15,7 @@
 #include "sable/analysis/drag.hpp"
 #include "sable/analysis/frame.hpp"
 #include "sable/core/error.hpp"
+#include "sable/io/vtk_xml.hpp"
 
 namespace sable {
 
@@ -113,6 +114,7 @@ void check_options(const AnalyzeOptions& opt) {
           fmt::format("option --only: unknown analysis '{}' (known: {})", clip(name), all));
     }
   if (opt.bins <= 0) throw InputError(fmt::format("option --bins: {} must be > 0", opt.bins));
+  parse_vtk_encoding(opt.vtk_format, "option --vtk-format");
   if (!(opt.eps >= 0.0 && opt.eps < 1.0))
     throw InputError(fmt::format("option --eps: {} must be in [0, 1)", opt.eps));
   if (opt.solid_fraction < 0.0 || opt.solid_fraction > 1.0)

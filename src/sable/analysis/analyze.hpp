@@ -39,17 +39,18 @@ struct AnalyzeOptions {
   std::string region;             // "xlo,ylo[,zlo]:xhi,yhi[,zhi]"; empty: the grains' box
   double solid_fraction = 0.0;    // for free volumes; 0: measured over the region
   int bins = 50;
-  double reference_force = 0.0;    // f0 for the PDFs (wet samples); 0: the mean force
-  double eps = 0.01;               // polarization: on the cone when |ft| >= (1 - eps) mu fn
-  std::vector<std::string> walls;  // wall profiles and polarization; empty: every wall
-  double wall_bin = 0.0;           // profile bin height (m); 0: two mean diameters
-  std::string grid;                // "10x10x40" node counts; empty: no grid unless spacing
-  double spacing = 0.0;            // grid spacing (m) instead of counts
-  std::string line;                // "x,y[,z]:x,y[,z]:n" nodes along a segment
-  std::string kernel = "sphere";   // sphere | gaussian | lucy
-  double width = 0.0;              // kernel radius / width (m); 0: two mean diameters
-  std::string frame;               // rotating frame "px,py,pz:ux,uy,uz"; empty: lab frame
-  double omega = 0.0;              // the frame's angular velocity, and drag's turning rate (rad/s)
+  double reference_force = 0.0;       // f0 for the PDFs (wet samples); 0: the mean force
+  double eps = 0.01;                  // polarization: on the cone when |ft| >= (1 - eps) mu fn
+  std::vector<std::string> walls;     // wall profiles and polarization; empty: every wall
+  double wall_bin = 0.0;              // profile bin height (m); 0: two mean diameters
+  std::string grid;                   // "10x10x40" node counts; empty: no grid unless spacing
+  double spacing = 0.0;               // grid spacing (m) instead of counts
+  std::string line;                   // "x,y[,z]:x,y[,z]:n" nodes along a segment
+  std::string kernel = "sphere";      // sphere | gaussian | lucy
+  std::string vtk_format = "binary";  // fields.vti: binary | zlib | ascii (io/vtk_xml.hpp)
+  double width = 0.0;                 // kernel radius / width (m); 0: two mean diameters
+  std::string frame;                  // rotating frame "px,py,pz:ux,uy,uz"; empty: lab frame
+  double omega = 0.0;  // the frame's angular velocity, and drag's turning rate (rad/s)
   // drag (drag.hpp): runs when named in `only`, or with `only` empty when drag_wall is given.
   std::string series;        // the run's series.csv; empty: beside the snapshots/ folder
   std::string drag_wall;     // the turning wall

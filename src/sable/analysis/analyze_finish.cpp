@@ -286,7 +286,7 @@ void AnalysisParts<D>::finish_fields() {
   if (fields_->spec.layout == FieldLayout::Grid) {
     const std::string path = out_.path("fields.vti");
     out_.write("fields.csv", field_table(*fields_));
-    write_fields_vti(*fields_, path);
+    write_fields_vti(*fields_, path, parse_vtk_encoding(opt_.vtk_format, "option --vtk-format"));
   } else {
     out_.write("fields_line.csv", field_table(*fields_));
   }

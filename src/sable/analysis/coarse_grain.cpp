@@ -482,7 +482,7 @@ Summary field_summary(const Fields<D>& f) {
 }
 
 template <int D>
-void write_fields_vti(const Fields<D>& f, const std::string& path) {
+void write_fields_vti(const Fields<D>& f, const std::string& path, VtkEncoding encoding) {
   if (f.spec.layout != FieldLayout::Grid)
     throw InputError(fmt::format("{}: a .vti file holds a grid, not a line of points", path));
   VtiImage im;
@@ -523,7 +523,7 @@ void write_fields_vti(const Fields<D>& f, const std::string& path) {
   im.scalars = "pressure";
   im.vectors = "velocity";
   im.tensors = "ellipsoid";
-  write_vti(im, path);
+  write_vti(im, path, encoding);
 }
 
 #define SABLE_CG_INSTANTIATE(D)                                           \
@@ -536,7 +536,7 @@ void write_fields_vti(const Fields<D>& f, const std::string& path) {
   template Fields<D>& average(Fields<D>&);                                \
   template Table field_table(const Fields<D>&);                           \
   template Summary field_summary(const Fields<D>&);                       \
-  template void write_fields_vti(const Fields<D>&, const std::string&);
+  template void write_fields_vti(const Fields<D>&, const std::string&, VtkEncoding);
 SABLE_CG_INSTANTIATE(2)
 SABLE_CG_INSTANTIATE(3)
 #undef SABLE_CG_INSTANTIATE

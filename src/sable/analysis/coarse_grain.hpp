@@ -65,6 +65,7 @@
 #include "sable/analysis/report.hpp"
 #include "sable/analysis/sample.hpp"
 #include "sable/core/space.hpp"
+#include "sable/io/vtk_xml.hpp"
 
 namespace sable {
 
@@ -190,7 +191,8 @@ Summary field_summary(const Fields<D>& f);
 // (3), ellipsoid (9, sigma / P, the symmetric part; 2D: zz = 0). 2D: one layer of points at
 // z = 0, z spacing = thickness.
 template <int D>
-void write_fields_vti(const Fields<D>& f, const std::string& path);
+void write_fields_vti(const Fields<D>& f, const std::string& path,
+                      VtkEncoding encoding = VtkEncoding::kBinary);
 
 // The weights, exposed for tests and for anyone building other averages on them.
 namespace cg {

@@ -6,6 +6,7 @@
 
 #include "sable/core/error.hpp"
 #include "sable/io/atomic_file.hpp"
+#include "sable/io/vtk_xml.hpp"
 
 namespace sable {
 
@@ -31,55 +32,40 @@ std::string attribute(const char* key, const std::string& value) {
   return value.empty() ? std::string() : fmt::format(" {}=\"{}\"", key, value);
 }
 
-}  // namespace
-
-std::string vti_text(const VtiImage& im) {
+void write_vti_pieces(const VtiImage& im, const PutText& put, VtkEncoding encoding) {
   check(im);
-  fmt::memory_buffer b;
-  auto out = std::back_inserter(b);
-  const auto& p = im.points;
-  const std::string extent = fmt::format("0 {} 0 {} 0 {}", p[0] - 1, p[1] - 1, p[2] - 1);
-  // Origin and spacing in shortest round-trip form: the grid reads back bit for bit.
-  fmt::format_to(out,
-                 "<?xml version=\"1.0\"?>\n"
-                 "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
-                 "  <ImageData WholeExtent=\"{}\" Origin=\"{} {} {}\" "
-                 "Spacing=\"{} {} {}\">\n"
-                 "    <Piece Extent=\"{}\">\n"
-                 "      <PointData{}{}{}>\n",
-                 extent, im.origin[0], im.origin[1], im.origin[2], im.spacing[0], im.spacing[1],
-                 im.spacing[2], extent, attribute("Scalars", im.scalars),
-                 attribute("Vectors", im.vectors), attribute("Tensors", im.tensors));
-  for (const VtiArray& arr : im.point_data) {
-    fmt::format_to(out,
-                   "        <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" "
-                   "format=\"ascii\">\n",
-                   arr.name, arr.components);
-    const std::size_t c = static_cast<std::size_t>(arr.components);
-    for (std::size_t k = 0; k < arr.values.size(); k += c) {
-      fmt::format_to(out, "          ");
-      for (std::size_t q = 0; q < c; ++q) {
-        if (q > 0) fmt::format_to(out, " ");
-        // 12 significant digits: fields are averages, far less precise than that, and sums
-        // read back (mass, virial) stay exact to 1e-12.
-        fmt::format_to(out, "{:.12g}", arr.values[k + q]);
-      }
-      fmt::format_to(out, "\n");
-    }
-    fmt::format_to(out, "        </DataArray>\n");
-  }
-  fmt::format_to(out,
-                 "      </PointData>\n"
-                 "      <CellData>\n"
-                 "      </CellData>\n"
-                 "    </Piece>\n"
-                 "  </ImageData>\n"
-                 "</VTKFile>\n");
-  return fmt::to_string(b);
+  write_vtk_xml(put, encoding, "ImageData", [&](VtkXmlWriter& s) {
+    const auto& p = im.points;
+    const std::string extent = fmt::format("0 {} 0 {} 0 {}", p[0] - 1, p[1] - 1, p[2] - 1);
+    // Origin and spacing in shortest round-trip form: the grid reads back bit for bit.
+    s.text(
+        "<ImageData WholeExtent=\"{}\" Origin=\"{} {} {}\" Spacing=\"{} {} {}\">\n"
+        "<Piece Extent=\"{}\">\n<PointData{}{}{}>\n",
+        extent, im.origin[0], im.origin[1], im.origin[2], im.spacing[0], im.spacing[1],
+        im.spacing[2], extent, attribute("Scalars", im.scalars), attribute("Vectors", im.vectors),
+        attribute("Tensors", im.tensors));
+    // ASCII: 12 significant digits: fields are averages, far less precise than that, and sums
+    // read back (mass, virial) stay exact to 1e-12.
+    constexpr int kDigits = 12;
+    for (const VtiArray& arr : im.point_data)
+      s.real_array(
+          arr.name, arr.components, arr.values.size(), [&](std::size_t k) { return arr.values[k]; },
+          kDigits);
+    s.text("</PointData>\n<CellData>\n</CellData>\n</Piece>\n</ImageData>\n");
+  });
 }
 
-void write_vti(const VtiImage& image, const std::string& path) {
-  write_text_atomic(path, vti_text(image));
+}  // namespace
+
+std::string vti_text(const VtiImage& image, VtkEncoding encoding) {
+  std::string out;
+  write_vti_pieces(
+      image, [&](const char* data, std::size_t size) { out.append(data, size); }, encoding);
+  return out;
+}
+
+void write_vti(const VtiImage& image, const std::string& path, VtkEncoding encoding) {
+  write_pieces_atomic(path, [&](const PutText& put) { write_vti_pieces(image, put, encoding); });
 }
 
 }  // namespace sable

@@ -1,15 +1,18 @@
-// VTK XML ImageData output (.vti, ASCII) for fields on a regular grid of points.
+// VTK XML ImageData output (.vti) for fields on a regular grid of points.
 //
 // A .vti file is the natural container for coarse-grained continuum fields: ParaView reads
 // the grid from three numbers per axis (point count, origin, spacing) instead of a list of
 // coordinates, and draws scalars, vectors and tensors (tensor glyphs, e.g. stress
 // ellipsoids) from named PointData arrays. Points are ordered x fastest, then y, then z, as
-// VTK expects. The file is replaced atomically (temporary + rename, io/atomic_file.hpp).
+// VTK expects. The file is replaced atomically (temporary + rename, io/atomic_file.hpp). The
+// arrays are raw binary by default, zlib-compressed or ASCII on request (io/vtk_xml.hpp).
 #pragma once
 
 #include <array>
 #include <string>
 #include <vector>
+
+#include "sable/io/vtk_xml.hpp"
 
 namespace sable {
 
@@ -35,9 +38,10 @@ struct VtiImage {
 
 // The .vti text. Throws InputError if a count is < 1 or an array does not hold
 // components x size() values, naming the array.
-std::string vti_text(const VtiImage& image);
+std::string vti_text(const VtiImage& image, VtkEncoding encoding = VtkEncoding::kBinary);
 
 // Write `image` to `path` atomically.
-void write_vti(const VtiImage& image, const std::string& path);
+void write_vti(const VtiImage& image, const std::string& path,
+               VtkEncoding encoding = VtkEncoding::kBinary);
 
 }  // namespace sable

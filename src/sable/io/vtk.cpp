@@ -14,6 +14,7 @@
 
 #include "sable/core/error.hpp"
 #include "sable/io/atomic_file.hpp"
+#include "sable/io/vtk_xml.hpp"
 #include "sable/world/element_forces.hpp"
 
 namespace sable {
@@ -22,10 +23,6 @@ namespace {
 
 using P3 = std::array<double, 3>;
 using Buf = fmt::memory_buffer;
-
-// 9 significant digits: every value is exact to float precision; doubles read back within
-// one part in 1e9, plenty for plots and post-processing.
-constexpr const char* kReal = "{:.9g}";
 
 std::string xml_escape(const std::string& s) {
   std::string out;
@@ -72,109 +69,57 @@ std::string xml_unescape(const std::string& s) {
   return out;
 }
 
-// A file's text as it is made, handed to the file in pieces of about kPiece bytes: a file
-// costs that much memory whatever its size. (Made whole, the 4 MB text of a 20,000-grain
-// file was held twice at the end of every stage, the buffer and its copy into a string: the
-// run's peak memory.)
-class Sink {
- public:
-  explicit Sink(const PutText& put) : put_(put) {}
-  auto out() { return std::back_inserter(buf_); }
-  void push(char c) { buf_.push_back(c); }
-  // Hand over the text made so far once it passes kPiece (`all`: whatever its size).
-  void spill(bool all = false) {
-    if (buf_.size() < kPiece && !all) return;
-    put_(buf_.data(), buf_.size());
-    buf_.clear();
-  }
-
- private:
-  static constexpr std::size_t kPiece = std::size_t{1} << 16;
-  const PutText& put_;
-  Buf buf_;
-};
-
 struct CellCounts {
   std::size_t points = 0, verts = 0, lines = 0, polys = 0;
 };
 
-void begin_piece(Sink& s, const CellCounts& c) {
-  fmt::format_to(s.out(),
-                 "<?xml version=\"1.0\"?>\n"
-                 "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
-                 "header_type=\"UInt64\">\n<PolyData>\n"
-                 "<Piece NumberOfPoints=\"{}\" NumberOfVerts=\"{}\" NumberOfLines=\"{}\" "
-                 "NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
-                 c.points, c.verts, c.lines, c.polys);
+void begin_piece(VtkXmlWriter& s, const CellCounts& c) {
+  s.text(
+      "<PolyData>\n<Piece NumberOfPoints=\"{}\" NumberOfVerts=\"{}\" NumberOfLines=\"{}\" "
+      "NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
+      c.points, c.verts, c.lines, c.polys);
 }
 
-void end_piece(Sink& s) {
-  fmt::format_to(s.out(), "</Piece>\n</PolyData>\n</VTKFile>\n");
-  s.spill(true);
+void end_piece(VtkXmlWriter& s) {
+  s.text("</Piece>\n</PolyData>\n");
 }
 
-// A Float64 array of `count` values, `comps` components per tuple; value(k) is the k-th.
-template <class Value>
-void real_array(Sink& s, const char* name, int comps, std::size_t count, Value value) {
-  fmt::format_to(s.out(),
-                 "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" "
-                 "format=\"ascii\">\n",
-                 name, comps);
-  for (std::size_t k = 0; k < count; ++k) {
-    fmt::format_to(s.out(), fmt::runtime(kReal), static_cast<double>(value(k)));
-    s.push((k + 1) % static_cast<std::size_t>(comps) == 0 ? '\n' : ' ');
-    s.spill();
-  }
-  fmt::format_to(s.out(), "</DataArray>\n");
-}
-
-void real_array(Sink& s, const char* name, int comps, const std::vector<double>& values) {
-  real_array(s, name, comps, values.size(), [&](std::size_t k) { return values[k]; });
-}
-
-// An integer array of `count` values; value(k) is the k-th.
-template <class Value>
-void int_array(Sink& s, const char* type, const char* name, std::size_t count, Value value) {
-  fmt::format_to(s.out(), "<DataArray type=\"{}\" Name=\"{}\" format=\"ascii\">\n", type, name);
-  for (std::size_t k = 0; k < count; ++k) {
-    fmt::format_to(s.out(), "{}", static_cast<std::int64_t>(value(k)));
-    s.push((k + 1) % 16 == 0 || k + 1 == count ? '\n' : ' ');
-    s.spill();
-  }
-  fmt::format_to(s.out(), "</DataArray>\n");
+void real_array(VtkXmlWriter& s, const char* name, int comps, const std::vector<double>& values) {
+  s.real_array(name, comps, values.size(), [&](std::size_t k) { return values[k]; });
 }
 
 template <class I>
-void int_array(Sink& s, const char* type, const char* name, const std::vector<I>& values) {
-  int_array(s, type, name, values.size(), [&](std::size_t k) { return values[k]; });
+void int_array(VtkXmlWriter& s, const char* name, const std::vector<I>& values) {
+  s.int_array<I>(name, values.size(), [&](std::size_t k) { return values[k]; });
 }
 
-void points_section(Sink& s, std::size_t count, const auto& value) {
-  fmt::format_to(s.out(), "<Points>\n");
-  real_array(s, "Points", 3, count, value);
-  fmt::format_to(s.out(), "</Points>\n");
+void points_section(VtkXmlWriter& s, std::size_t count, const auto& value) {
+  s.text("<Points>\n");
+  s.real_array("Points", 3, count, value);
+  s.text("</Points>\n");
 }
 
 // A Verts, Lines or Polys section of `cells` cells of `size` points each, point k of the
 // connectivity being point k (the grains' vertices and the contacts' segments).
-void uniform_cells_section(Sink& s, const char* tag, std::size_t cells, std::size_t size) {
-  fmt::format_to(s.out(), "<{}>\n", tag);
-  int_array(s, "Int64", "connectivity", cells * size, [](std::size_t k) { return k; });
-  int_array(s, "Int64", "offsets", cells, [&](std::size_t c) { return (c + 1) * size; });
-  fmt::format_to(s.out(), "</{}>\n", tag);
+void uniform_cells_section(VtkXmlWriter& s, const char* tag, std::size_t cells, std::size_t size) {
+  s.text("<{}>\n", tag);
+  s.int_array<std::int64_t>("connectivity", cells * size, [](std::size_t k) { return k; });
+  s.int_array<std::int64_t>("offsets", cells, [&](std::size_t c) { return (c + 1) * size; });
+  s.text("</{}>\n", tag);
 }
 
 // A Verts, Lines or Polys section from each cell's point indices.
-void cells_section(Sink& s, const char* tag, const std::vector<std::vector<std::int64_t>>& cells) {
+void cells_section(VtkXmlWriter& s, const char* tag,
+                   const std::vector<std::vector<std::int64_t>>& cells) {
   std::vector<std::int64_t> connectivity, offsets;
   for (const auto& cell : cells) {
     connectivity.insert(connectivity.end(), cell.begin(), cell.end());
     offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
   }
-  fmt::format_to(s.out(), "<{}>\n", tag);
-  int_array(s, "Int64", "connectivity", connectivity);
-  int_array(s, "Int64", "offsets", offsets);
-  fmt::format_to(s.out(), "</{}>\n", tag);
+  s.text("<{}>\n", tag);
+  int_array(s, "connectivity", connectivity);
+  int_array(s, "offsets", offsets);
+  s.text("</{}>\n", tag);
 }
 
 void append3(std::vector<double>& out, const P3& p) {
@@ -206,7 +151,7 @@ std::vector<std::int32_t> coordination(const World<D>& w) {
 }  // namespace
 
 template <int D>
-void write_grains_vtp(const World<D>& world, const std::string& path) {
+void write_grains_vtp(const World<D>& world, const std::string& path, VtkEncoding encoding) {
   using S = Space<D>;
   const auto& p = world.particles;
   const std::size_t n = p.size();
@@ -218,26 +163,27 @@ void write_grains_vtp(const World<D>& world, const std::string& path) {
   };
   const auto spin3 = [&](std::size_t k) { return S::rot_to_array(p.omega[k / 3])[k % 3]; };
   write_pieces_atomic(path, [&](const PutText& put) {
-    Sink s(put);
-    begin_piece(s, {n, n, 0, 0});
-    fmt::format_to(s.out(), "<PointData Scalars=\"radius\" Vectors=\"velocity\">\n");
-    int_array(s, "Int64", "id", n, [&](std::size_t k) { return p.id[k].index; });
-    real_array(s, "radius", 1, p.radius);
-    real_array(s, "velocity", 3, 3 * n, vec3(p.v));
-    real_array(s, "angular_velocity", 3, 3 * n, spin3);
-    real_array(s, "force", 3, 3 * n, vec3(p.f));
-    int_array(s, "Int32", "coordination", z);
-    int_array(s, "Int32", "material", n, [&](std::size_t k) { return p.material[k]; });
-    int_array(s, "UInt8", "fixed", n, [&](std::size_t k) { return p.fixed(k) ? 1 : 0; });
-    fmt::format_to(s.out(), "</PointData>\n");
-    points_section(s, 3 * n, vec3(p.x));
-    uniform_cells_section(s, "Verts", n, 1);
-    end_piece(s);
+    write_vtk_xml(put, encoding, "PolyData", [&](VtkXmlWriter& s) {
+      begin_piece(s, {n, n, 0, 0});
+      s.text("<PointData Scalars=\"radius\" Vectors=\"velocity\">\n");
+      s.int_array<std::int64_t>("id", n, [&](std::size_t k) { return p.id[k].index; });
+      real_array(s, "radius", 1, p.radius);
+      s.real_array("velocity", 3, 3 * n, vec3(p.v));
+      s.real_array("angular_velocity", 3, 3 * n, spin3);
+      s.real_array("force", 3, 3 * n, vec3(p.f));
+      int_array(s, "coordination", z);
+      s.int_array<std::int32_t>("material", n, [&](std::size_t k) { return p.material[k]; });
+      s.int_array<std::uint8_t>("fixed", n, [&](std::size_t k) { return p.fixed(k) ? 1 : 0; });
+      s.text("</PointData>\n");
+      points_section(s, 3 * n, vec3(p.x));
+      uniform_cells_section(s, "Verts", n, 1);
+      end_piece(s);
+    });
   });
 }
 
 template <int D>
-void write_contacts_vtp(const World<D>& world, const std::string& path) {
+void write_contacts_vtp(const World<D>& world, const std::string& path, VtkEncoding encoding) {
   using S = Space<D>;
   using Vec = typename S::Vec;
   const auto& p = world.particles;
@@ -264,20 +210,21 @@ void write_contacts_vtp(const World<D>& world, const std::string& path) {
   }
   const std::size_t lines = fn.size();  // one segment per contact, from x_i to x_j
   write_pieces_atomic(path, [&](const PutText& put) {
-    Sink s(put);
-    begin_piece(s, {2 * lines, 0, lines, 0});
-    fmt::format_to(s.out(), "<CellData Scalars=\"normal_force\">\n");
-    real_array(s, "normal_force", 1, fn);
-    real_array(s, "normal_force_vector", 3, fn_vec);
-    real_array(s, "tangential_force", 3, ft_vec);
-    int_array(s, "Int64", "id_i", id_i);
-    int_array(s, "Int64", "id_j", id_j);
-    // Wet law: the liquid-bridge volume of each bond (m^3; -1 where there is none).
-    if (wet) real_array(s, "bridge_volume", 1, bridge);
-    fmt::format_to(s.out(), "</CellData>\n");
-    points_section(s, xyz.size(), [&](std::size_t k) { return xyz[k]; });
-    uniform_cells_section(s, "Lines", lines, 2);
-    end_piece(s);
+    write_vtk_xml(put, encoding, "PolyData", [&](VtkXmlWriter& s) {
+      begin_piece(s, {2 * lines, 0, lines, 0});
+      s.text("<CellData Scalars=\"normal_force\">\n");
+      real_array(s, "normal_force", 1, fn);
+      real_array(s, "normal_force_vector", 3, fn_vec);
+      real_array(s, "tangential_force", 3, ft_vec);
+      int_array(s, "id_i", id_i);
+      int_array(s, "id_j", id_j);
+      // Wet law: the liquid-bridge volume of each bond (m^3; -1 where there is none).
+      if (wet) real_array(s, "bridge_volume", 1, bridge);
+      s.text("</CellData>\n");
+      points_section(s, xyz.size(), [&](std::size_t k) { return xyz[k]; });
+      uniform_cells_section(s, "Lines", lines, 2);
+      end_piece(s);
+    });
   });
 }
 
@@ -405,7 +352,7 @@ void mesh_cells(const MeshShape<D>& m, std::int32_t index, WallMesh& mesh) {
 }  // namespace
 
 template <int D>
-void write_walls_vtp(const World<D>& world, const std::string& path) {
+void write_walls_vtp(const World<D>& world, const std::string& path, VtkEncoding encoding) {
   using S = Space<D>;
   WallMesh mesh;
   for (std::size_t k = 0; k < world.walls.size(); ++k) {
@@ -444,17 +391,18 @@ void write_walls_vtp(const World<D>& world, const std::string& path) {
   }
   const std::size_t ncells = mesh.cells.size();
   write_pieces_atomic(path, [&](const PutText& put) {
-    Sink s(put);
-    begin_piece(s, {mesh.xyz.size() / 3, 0, D == 2 ? ncells : 0, D == 3 ? ncells : 0});
-    fmt::format_to(s.out(), "<CellData Scalars=\"wall\" Vectors=\"force\">\n");
-    int_array(s, "Int32", "wall", mesh.wall);
-    real_array(s, "force", 3, force);
-    int_array(s, "Int32", "element", mesh.element);
-    real_array(s, "cell_force", 3, cell_force);
-    fmt::format_to(s.out(), "</CellData>\n");
-    points_section(s, mesh.xyz.size(), [&](std::size_t k) { return mesh.xyz[k]; });
-    cells_section(s, D == 2 ? "Lines" : "Polys", mesh.cells);
-    end_piece(s);
+    write_vtk_xml(put, encoding, "PolyData", [&](VtkXmlWriter& s) {
+      begin_piece(s, {mesh.xyz.size() / 3, 0, D == 2 ? ncells : 0, D == 3 ? ncells : 0});
+      s.text("<CellData Scalars=\"wall\" Vectors=\"force\">\n");
+      int_array(s, "wall", mesh.wall);
+      real_array(s, "force", 3, force);
+      int_array(s, "element", mesh.element);
+      real_array(s, "cell_force", 3, cell_force);
+      s.text("</CellData>\n");
+      points_section(s, mesh.xyz.size(), [&](std::size_t k) { return mesh.xyz[k]; });
+      cells_section(s, D == 2 ? "Lines" : "Polys", mesh.cells);
+      end_piece(s);
+    });
   });
 }
 
@@ -518,11 +466,11 @@ void PvdSeries::write() const {
   write_text_atomic(path_, fmt::to_string(b));
 }
 
-template void write_grains_vtp<2>(const World<2>&, const std::string&);
-template void write_grains_vtp<3>(const World<3>&, const std::string&);
-template void write_contacts_vtp<2>(const World<2>&, const std::string&);
-template void write_contacts_vtp<3>(const World<3>&, const std::string&);
-template void write_walls_vtp<2>(const World<2>&, const std::string&);
-template void write_walls_vtp<3>(const World<3>&, const std::string&);
+template void write_grains_vtp<2>(const World<2>&, const std::string&, VtkEncoding);
+template void write_grains_vtp<3>(const World<3>&, const std::string&, VtkEncoding);
+template void write_contacts_vtp<2>(const World<2>&, const std::string&, VtkEncoding);
+template void write_contacts_vtp<3>(const World<3>&, const std::string&, VtkEncoding);
+template void write_walls_vtp<2>(const World<2>&, const std::string&, VtkEncoding);
+template void write_walls_vtp<3>(const World<3>&, const std::string&, VtkEncoding);
 
 }  // namespace sable

@@ -1,16 +1,18 @@
-// VTK XML PolyData output (.vtp, ASCII) for ParaView, and .pvd time-series collections.
+// VTK XML PolyData output (.vtp) for ParaView, and .pvd time-series collections.
 //
 // Three files describe a moment of a run: the grains (points with per-grain data and a vertex
 // cell each so ParaView draws them), the touching contacts (a line between the two centres,
 // with the normal and tangential force), and the walls (planes clipped to the neighbour-list
 // domain box, cylinders as a triangulated side surface). 2D runs write z = 0 and the angular
-// velocity as (0, 0, w). Every file is replaced atomically (temporary + rename).
+// velocity as (0, 0, w). Every file is replaced atomically (temporary + rename). The arrays are
+// raw binary by default, zlib-compressed or ASCII on request (io/vtk_xml.hpp).
 #pragma once
 
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "sable/io/vtk_xml.hpp"
 #include "sable/world/world.hpp"
 
 namespace sable {
@@ -18,18 +20,21 @@ namespace sable {
 // PointData: id (stable id index), radius, velocity, angular_velocity, force, coordination
 // (touching grain and wall contacts), material, fixed.
 template <int D>
-void write_grains_vtp(const World<D>& world, const std::string& path);
+void write_grains_vtp(const World<D>& world, const std::string& path,
+                      VtkEncoding encoding = VtkEncoding::kBinary);
 
 // One line cell per touching grain pair. CellData: normal_force (f.n, n from j to i; positive
 // when pushing apart), normal_force_vector, tangential_force (force on grain i), id_i, id_j.
 template <int D>
-void write_contacts_vtp(const World<D>& world, const std::string& path);
+void write_contacts_vtp(const World<D>& world, const std::string& path,
+                        VtkEncoding encoding = VtkEncoding::kBinary);
 
 // Planes clipped to world.neighbors.domain_lo..hi (a polygon in 3D, a segment in 2D; a plane
 // that misses the box draws nothing), inside-cylinders as 64-sided side surfaces from
 // domain_lo.z to domain_hi.z (a circle in 2D). CellData: wall (index), force (on the wall).
 template <int D>
-void write_walls_vtp(const World<D>& world, const std::string& path);
+void write_walls_vtp(const World<D>& world, const std::string& path,
+                     VtkEncoding encoding = VtkEncoding::kBinary);
 
 // A ParaView .pvd collection of time steps, rewritten atomically after each add.
 class PvdSeries {

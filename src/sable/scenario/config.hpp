@@ -16,6 +16,7 @@
 #include "sable/core/material.hpp"
 #include "sable/core/source_loc.hpp"
 #include "sable/generation/grains_config.hpp"
+#include "sable/io/vtk_xml.hpp"
 
 namespace sable {
 
@@ -194,6 +195,7 @@ struct OutputConfig {
   std::uint64_t log_interval = 1000;    // steps between log lines (non-terminal)
   bool vtk_contacts = true;
   bool vtk_walls = true;
+  VtkEncoding vtk_format = VtkEncoding::kBinary;  // how the .vtp arrays are stored (vtk_xml.hpp)
 };
 
 struct ScenarioConfig {

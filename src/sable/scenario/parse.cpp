@@ -479,7 +479,7 @@ OutputConfig parse_output(const Table& root) {
   const auto t = root.table("output");
   if (!t) return o;
   t->check_keys({"dir", "vtk_interval", "csv_interval", "snapshot_interval", "log_interval",
-                 "vtk_contacts", "vtk_walls"});
+                 "vtk_contacts", "vtk_walls", "vtk_format"});
   o.dir = t->string("dir").value_or(o.dir);
   if (o.dir.empty()) t->fail("dir", "a non-empty directory name");
   o.vtk_interval = t->unsigned_or("vtk_interval", o.vtk_interval);
@@ -488,6 +488,8 @@ OutputConfig parse_output(const Table& root) {
   o.log_interval = t->unsigned_or("log_interval", o.log_interval);
   o.vtk_contacts = t->boolean_or("vtk_contacts", o.vtk_contacts);
   o.vtk_walls = t->boolean_or("vtk_walls", o.vtk_walls);
+  o.vtk_format = parse_vtk_encoding(t->choice("vtk_format", {"binary", "zlib", "ascii"}, "binary"),
+                                    "vtk_format");
   return o;
 }
 

@@ -345,14 +345,15 @@ void Runner<D>::after_step() {
 template <int D>
 void Runner<D>::write_frame() {
   const std::string stem = fmt::format("{:010d}.vtp", world_.step);
-  write_grains_vtp(world_, (out_ / "vtk" / ("grains_" + stem)).string());
+  const VtkEncoding format = cfg_.output.vtk_format;
+  write_grains_vtp(world_, (out_ / "vtk" / ("grains_" + stem)).string(), format);
   grains_pvd_->add(world_.time, "vtk/grains_" + stem);
   if (cfg_.output.vtk_contacts) {
-    write_contacts_vtp(world_, (out_ / "vtk" / ("contacts_" + stem)).string());
+    write_contacts_vtp(world_, (out_ / "vtk" / ("contacts_" + stem)).string(), format);
     contacts_pvd_->add(world_.time, "vtk/contacts_" + stem);
   }
   if (cfg_.output.vtk_walls && !world_.walls.empty()) {
-    write_walls_vtp(world_, (out_ / "vtk" / ("walls_" + stem)).string());
+    write_walls_vtp(world_, (out_ / "vtk" / ("walls_" + stem)).string(), format);
     walls_pvd_->add(world_.time, "vtk/walls_" + stem);
   }
 }

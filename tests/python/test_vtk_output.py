@@ -1,0 +1,204 @@
+#!/usr/bin/env python3
+"""The VTK files of a run, read with xml + numpy (scripts/vtkxml.py), against its snapshot.
+
+One short DEM run (300 spheres settling in a box) per encoding of [output] vtk_format writes
+its end-of-stage VTK frame and snapshot at the same step. Each frame's arrays must be the
+snapshot's:
+- binary and zlib store the doubles' bits: positions, radii, velocities, spins, forces and ids
+  equal the snapshot's exactly (the reason for a raw format: nothing lost);
+- ascii prints 9 significant digits: within 5e-9 relative (half a unit of the 9th digit),
+  plus 1e-15 for the parse;
+- the contacts file has one line per pair of the snapshot with a non-zero force, from grain i
+  to grain j, with the pair's ids, and its normal force f . n within 1e-12 relative of the
+  one numpy computes (the same three products, summed in another order; ascii adds its 5e-9);
+- the walls' cells carry the walls' forces of the snapshot, bit for bit;
+- binary is smaller than ascii, and zlib smaller than binary.
+`sable analyze --only fields` then writes fields.vti in each encoding: its arrays equal the
+fields.csv columns written beside it (the CSV prints 12 significant digits: 1e-11 relative,
+plus an absolute 1e-300 for exact zeros).
+
+usage: test_vtk_output.py SABLE_EXECUTABLE WORK_DIR
+"""
+import csv
+import os
+import shutil
+import subprocess
+import sys
+import unittest
+
+import h5py
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                "scripts"))
+import vtkxml  # noqa: E402
+
+SABLE = WORK = None
+STEPS = 3000
+SCENARIO = """
+[simulation]
+dimension = 3
+seed = 7
+gravity = [0, 0, -9.81]
+
+[domain]
+lo = [0, 0, 0]
+hi = [0.02, 0.02, 0.04]
+
+[[material]]
+name = "g"
+density = 2500.0
+young = 5e6
+poisson = 0.45
+restitution = 0.6
+friction = 0.5
+
+[[grains]]
+generator = "lattice"
+arrangement = "hexagonal"
+material = "g"
+radius = {{ distribution = "uniform", mean = 1e-3, spread = 0.2 }}
+jitter = 0.1e-3
+spacing = 2.6e-3
+region = {{ box = {{ lo = [0, 0, 0], hi = [0.02, 0.02, 0.04] }} }}
+count = 300
+
+[[wall]]
+name = "box"
+type = "box"
+material = "g"
+lo = [0, 0, 0]
+hi = [0.02, 0.02, 0.04]
+
+[[stage]]
+name = "settle"
+steps = {steps}
+
+[output]
+dir = "{out}"
+vtk_format = "{fmt}"
+"""
+FORMATS = ("binary", "zlib", "ascii")
+
+
+def run(fmt):
+    out = os.path.join(WORK, fmt)
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    path = os.path.join(WORK, f"{fmt}.toml")
+    with open(path, "w") as f:
+        f.write(SCENARIO.format(steps=STEPS, out=out, fmt=fmt))
+    subprocess.run([SABLE, "run", path, "--threads", "1"], check=True, stdout=subprocess.DEVNULL)
+    return out
+
+
+class VtkAgainstSnapshot(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.out = {fmt: run(fmt) for fmt in FORMATS}
+
+    def frame(self, fmt, kind):
+        return vtkxml.read(os.path.join(self.out[fmt], "vtk", f"{kind}_{STEPS:010d}.vtp"))
+
+    def snapshot(self, fmt):
+        return h5py.File(os.path.join(self.out[fmt], "snapshots", "end_of_stage_1.h5"), "r")
+
+    def same(self, fmt, got, want, what):
+        got, want = np.asarray(got, dtype=float), np.asarray(want, dtype=float)
+        self.assertEqual(got.shape, want.shape, what)
+        if fmt == "ascii":
+            np.testing.assert_allclose(got, want, rtol=5e-9 + 1e-15, atol=0, err_msg=what)
+        else:
+            self.assertTrue(np.array_equal(got, want), f"{fmt} {what}: not the snapshot's bits")
+
+    def test_grains(self):
+        for fmt in FORMATS:
+            g, s = self.frame(fmt, "grains"), self.snapshot(fmt)
+            p = s["particles"]
+            self.assertEqual(g.formats, {"ascii"} if fmt == "ascii" else {"appended"})
+            self.assertEqual(int(g.piece["NumberOfPoints"]), 300)
+            self.same(fmt, g.points, p["x"][:], "positions")
+            self.same(fmt, g.point_data["radius"], p["radius"][:], "radii")
+            self.same(fmt, g.point_data["velocity"], p["v"][:], "velocities")
+            self.same(fmt, g.point_data["angular_velocity"], p["w"][:], "spins")
+            self.same(fmt, g.point_data["force"], p["f"][:], "forces")
+            self.assertTrue(np.array_equal(g.point_data["id"], p["id"][:, 0]), fmt)
+            self.assertEqual(g.point_data["id"].dtype, np.int64)
+            self.assertEqual(g.point_data["fixed"].dtype, np.uint8)
+            conn, offs = g.cells["Verts"]
+            self.assertTrue(np.array_equal(conn, np.arange(300)))
+            self.assertTrue(np.array_equal(offs, np.arange(1, 301)))
+
+    def test_contacts(self):
+        for fmt in FORMATS:
+            c, s = self.frame(fmt, "contacts"), self.snapshot(fmt)
+            pairs, x, ids = s["neighbors/pairs"], s["particles/x"][:], s["particles/id"][:, 0]
+            force = pairs["force"][:]
+            touching = np.flatnonzero((force != 0).any(axis=1))
+            self.assertGreater(len(touching), 100, "the settled bed should have contacts")
+            i, j = pairs["i"][:][touching], pairs["j"][:][touching]
+            self.assertEqual(int(c.piece["NumberOfLines"]), len(touching))
+            self.assertTrue(np.array_equal(c.cell_data["id_i"], ids[i]), fmt)
+            self.assertTrue(np.array_equal(c.cell_data["id_j"], ids[j]), fmt)
+            ends = c.points.reshape(-1, 2, 3)
+            self.same(fmt, ends[:, 0], x[i], "contact start points")
+            self.same(fmt, ends[:, 1], x[j], "contact end points")
+            d = x[i] - x[j]
+            n = d / np.linalg.norm(d, axis=1)[:, None]
+            fn = (force[touching] * n).sum(axis=1)
+            rtol = 1e-12 + (5e-9 if fmt == "ascii" else 0.0)
+            np.testing.assert_allclose(c.cell_data["normal_force"], fn, rtol=rtol,
+                                       atol=1e-12 * np.abs(fn).max())
+
+    def test_walls(self):
+        for fmt in FORMATS:
+            w, s = self.frame(fmt, "walls"), self.snapshot(fmt)
+            walls = w.cell_data["wall"]
+            self.assertEqual(sorted(set(walls.tolist())), list(range(6)), "six box faces")
+            self.same(fmt, w.cell_data["force"], s["walls/force"][:][walls], "wall forces")
+
+    def test_sizes(self):
+        size = {fmt: os.path.getsize(os.path.join(self.out[fmt], "vtk",
+                                                  f"grains_{STEPS:010d}.vtp"))
+                for fmt in FORMATS}
+        self.assertLess(size["binary"], size["ascii"])
+        self.assertLess(size["zlib"], size["binary"])
+
+    def test_fields_vti(self):
+        snap = os.path.join(self.out["binary"], "snapshots", "end_of_stage_1.h5")
+        for fmt in FORMATS:
+            an = os.path.join(WORK, f"fields-{fmt}")
+            subprocess.run([SABLE, "analyze", snap, "--only", "fields", "--grid", "3x3x4",
+                            "--vtk-format", fmt, "--out", an], check=True,
+                           stdout=subprocess.DEVNULL)
+            f = vtkxml.read(os.path.join(an, "fields.vti"))
+            self.assertEqual(f.type, "ImageData")
+            self.assertEqual(f.image["WholeExtent"], "0 2 0 2 0 3")
+            with open(os.path.join(an, "fields.csv")) as t:
+                rows = list(csv.DictReader(t))
+            self.assertEqual(len(rows), 36)
+            for name, column in (("pressure", "pressure_Pa"), ("density", "density_kg_m3"),
+                                 ("volume_fraction", "volume_fraction")):
+                want = np.array([float(r[column]) for r in rows])
+                np.testing.assert_allclose(f.point_data[name], want, rtol=1e-11, atol=1e-300,
+                                           err_msg=f"{fmt} {name}")
+            stress = f.point_data["stress"]
+            self.assertEqual(stress.shape, (36, 9))
+            want = np.array([float(r["sigma_zz_Pa"]) for r in rows])
+            np.testing.assert_allclose(stress[:, 8], want, rtol=1e-11, atol=1e-300)
+
+    def test_bad_format_is_refused(self):
+        path = os.path.join(WORK, "bad.toml")
+        with open(path, "w") as f:
+            f.write(SCENARIO.format(steps=1, out=os.path.join(WORK, "bad"), fmt="hdf5"))
+        r = subprocess.run([SABLE, "run", path], capture_output=True, text=True)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("vtk_format", r.stderr)
+        self.assertIn("binary", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(WORK, "bad")), "nothing written")
+
+
+if __name__ == "__main__":
+    SABLE, WORK = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+    os.makedirs(WORK, exist_ok=True)
+    unittest.main(argv=sys.argv[:1] + sys.argv[3:], verbosity=2)
