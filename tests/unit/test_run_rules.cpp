@@ -122,8 +122,9 @@ TEST(OutputFolder, AFreshRunRefusesAnotherRunsOutputs) {
 }
 
 // A resume into its own folder continues it: temporaries of a killed write are deleted;
-// snapshots past the resume point are refused (they belong to another continuation), and
-// with --overwrite deleted, never the snapshot resumed from. The series keeps its rows.
+// snapshots past the resume point (and their sidecars) are refused (they belong to another
+// continuation), and with --overwrite deleted, never the snapshot resumed from. The series
+// keeps its rows.
 TEST(OutputFolder, AResumeTidiesItsFolder) {
   const fs::path dir = fresh_dir("resume");
   const std::string text = pour(dir / "out", 1500);
@@ -133,16 +134,21 @@ TEST(OutputFolder, AResumeTidiesItsFolder) {
   const fs::path stale = snaps / "step_0000001000.h5.tmp-2147483646";  // no such process
   std::ofstream(stale) << "half a snapshot";
   const std::string e = input_error([&] { run(text, snap.string()); });
+  // Each later snapshot with its XDMF sidecar (the end-of-stage one has no step in its name:
+  // its sidecar goes by the snapshot's header), then the VTK frames.
   EXPECT_TRUE(has(e,
-                  "holds 6 outputs of steps after the resumed step 500 "
-                  "(snapshots/end_of_stage_1.h5, snapshots/step_0000001000.h5, "
-                  "snapshots/step_0000001500.h5, vtk/contacts_0000001500.vtp"))
+                  "holds 9 outputs of steps after the resumed step 500 "
+                  "(snapshots/end_of_stage_1.h5, snapshots/end_of_stage_1.xmf, "
+                  "snapshots/step_0000001000.h5, snapshots/step_0000001000.xmf, "
+                  "snapshots/step_0000001500.h5, snapshots/step_0000001500.xmf and 3 more)"))
       << e;
   EXPECT_FALSE(fs::exists(stale));
+  fs::remove(snaps / "step_0000001000.h5");  // an orphan sidecar goes by the step in its name
   const auto resumed = run(text, snap.string(), true);
   EXPECT_EQ(resumed.state_hash, full.state_hash);
   EXPECT_TRUE(fs::exists(snap));
-  EXPECT_TRUE(fs::exists(snaps / "step_0000001000.h5"));  // written again by the resume
+  EXPECT_TRUE(fs::exists(snaps / "step_0000000500.xmf"));  // the resumed snapshot's, kept
+  EXPECT_TRUE(fs::exists(snaps / "step_0000001000.h5"));   // written again by the resume
   const std::string csv = read(dir / "out" / "series.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 16) << csv;  // header, steps 0..1500
   fs::remove_all(dir);

@@ -110,8 +110,17 @@ std::vector<fs::path> outputs_after(const fs::path& dir, std::uint64_t step, con
       const fs::path& p = e.path();
       if (!e.is_regular_file(ec) || temp_owner(p.filename().string())) continue;
       const bool snapshot = p.extension() == ".h5";
-      if (!snapshot && p.extension() != ".vtp") continue;
-      const auto s = snapshot ? snapshot_step(p) : step_in_file_name(p.filename().string());
+      const bool sidecar = p.extension() == ".xmf";  // a snapshot's XDMF: goes with it
+      if (!snapshot && !sidecar && p.extension() != ".vtp") continue;
+      std::optional<std::uint64_t> s;
+      if (snapshot)
+        s = snapshot_step(p);
+      else if (sidecar)
+        s = fs::exists(fs::path(p).replace_extension(".h5"), ec)
+                ? snapshot_step(fs::path(p).replace_extension(".h5"))
+                : step_in_file_name(fs::path(p).replace_extension(".h5").filename().string());
+      else
+        s = step_in_file_name(p.filename().string());
       if (s && *s > step && fs::weakly_canonical(p, ec) != kept) out.push_back(p);
     }
   }

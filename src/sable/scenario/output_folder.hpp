@@ -6,9 +6,10 @@
 //   left beside this run's would be taken for its own), unless `overwrite`, which deletes
 //   exactly those entries first.
 // - A resumed run continues the folder's series (series.csv and the .pvd files keep their
-//   entries up to the resume point). Snapshots and VTK frames of steps after the resume point
-//   belong to a continuation this run replaces: it refuses them, unless `overwrite`, which
-//   deletes exactly those files. The snapshot being resumed is never deleted.
+//   entries up to the resume point). Snapshots (with their .xmf sidecars) and VTK frames of
+//   steps after the resume point belong to a continuation this run replaces: it refuses them,
+//   unless `overwrite`, which deletes exactly those files. The snapshot being resumed is never
+//   deleted.
 // - Either way, temporaries of an interrupted atomic write (`NAME.tmp-PID`, io/atomic_file.hpp)
 //   whose process no longer runs are deleted: they are never complete files.
 #pragma once

@@ -12,6 +12,7 @@
 #include "sable/io/csv.hpp"
 #include "sable/io/snapshot.hpp"
 #include "sable/io/vtk.hpp"
+#include "sable/io/xdmf.hpp"
 #include "sable/loading/box_state.hpp"
 #include "sable/loading/servo.hpp"
 #include "sable/scenario/build.hpp"
@@ -362,8 +363,12 @@ template <int D>
 void Runner<D>::write_snapshot(const std::string& file) {
   std::error_code ec;
   const fs::path scenario = fs::absolute(cfg_.path, ec);
-  save_snapshot(world_, pos_, cfg_.text, (out_ / "snapshots" / file).string(),
-                ec ? std::string() : scenario.string());
+  const fs::path path = out_ / "snapshots" / file;
+  save_snapshot(world_, pos_, cfg_.text, path.string(), ec ? std::string() : scenario.string());
+  // The sidecar after its snapshot: a crash between the two leaves a snapshot without one
+  // (harmless), never a sidecar naming a missing or older file.
+  write_xdmf({file, D, world_.particles.size(), world_.time},
+             fs::path(path).replace_extension(".xmf").string());
 }
 
 template <int D>

@@ -1,5 +1,7 @@
 #!/usr/bin/env python3
-"""The VTK files of a run, read with xml + numpy (scripts/vtkxml.py), against its snapshot.
+"""A run's outputs read without Sable: VTK frames and XDMF sidecars against the snapshot.
+
+VTK: the files read with xml + numpy (scripts/vtkxml.py).
 
 One short DEM run (300 spheres settling in a box) per encoding of [output] vtk_format writes
 its end-of-stage VTK frame and snapshot at the same step. Each frame's arrays must be the
@@ -17,7 +19,12 @@ snapshot's:
 fields.csv columns written beside it (the CSV prints 12 significant digits: 1e-11 relative,
 plus an absolute 1e-300 for exact zeros).
 
-usage: test_vtk_output.py SABLE_EXECUTABLE WORK_DIR
+XDMF (VtkAgainstSnapshot.test_xdmf_sidecars, for the 3D run and a 2D one): every snapshot
+has a .xmf beside it whose every HDF reference names a dataset of that snapshot with the
+declared dimensions, number type and byte size, whose grid has one vertex per grain, whose
+time is the snapshot's to the bit, and whose id hyperslab selects column 0 of /particles/id.
+
+usage: test_outputs.py SABLE_EXECUTABLE WORK_DIR
 """
 import csv
 import os
@@ -25,6 +32,7 @@ import shutil
 import subprocess
 import sys
 import unittest
+import xml.etree.ElementTree as ET
 
 import h5py
 import numpy as np
@@ -79,6 +87,48 @@ dir = "{out}"
 vtk_format = "{fmt}"
 """
 FORMATS = ("binary", "zlib", "ascii")
+SCENARIO_2D = """
+[simulation]
+dimension = 2
+seed = 3
+gravity = [0.0, -9.81]
+thickness = 0.002
+
+[domain]
+lo = [0.0, 0.0]
+hi = [0.02, 0.04]
+
+[[material]]
+name = "g"
+density = 2500.0
+young = 5e6
+poisson = 0.45
+restitution = 0.6
+friction = 0.5
+
+[[grains]]
+generator = "random"
+material = "g"
+radius = {{ distribution = "uniform", mean = 1e-3, spread = 0.2 }}
+region = {{ box = {{ lo = [0.0, 0.0], hi = [0.02, 0.04] }} }}
+count = 60
+
+[[wall]]
+name = "box"
+type = "box"
+material = "g"
+lo = [0.0, 0.0]
+hi = [0.02, 0.04]
+
+[[stage]]
+name = "settle"
+steps = 500
+
+[output]
+dir = "{out}"
+snapshot_interval = 250
+"""
+XDMF_TYPES = {("Float", 8): "f8", ("UInt", 4): "u4", ("UInt", 2): "u2", ("UChar", 1): "u1"}
 
 
 def run(fmt):
@@ -88,7 +138,8 @@ def run(fmt):
     path = os.path.join(WORK, f"{fmt}.toml")
     with open(path, "w") as f:
         f.write(SCENARIO.format(steps=STEPS, out=out, fmt=fmt))
-    subprocess.run([SABLE, "run", path, "--threads", "1"], check=True, stdout=subprocess.DEVNULL)
+    subprocess.run([SABLE, "run", path, "--threads", "1"], check=True, stdout=subprocess.DEVNULL,
+                   stderr=subprocess.DEVNULL)
     return out
 
 
@@ -170,7 +221,7 @@ class VtkAgainstSnapshot(unittest.TestCase):
             an = os.path.join(WORK, f"fields-{fmt}")
             subprocess.run([SABLE, "analyze", snap, "--only", "fields", "--grid", "3x3x4",
                             "--vtk-format", fmt, "--out", an], check=True,
-                           stdout=subprocess.DEVNULL)
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             f = vtkxml.read(os.path.join(an, "fields.vti"))
             self.assertEqual(f.type, "ImageData")
             self.assertEqual(f.image["WholeExtent"], "0 2 0 2 0 3")
@@ -186,6 +237,54 @@ class VtkAgainstSnapshot(unittest.TestCase):
             self.assertEqual(stress.shape, (36, 9))
             want = np.array([float(r["sigma_zz_Pa"]) for r in rows])
             np.testing.assert_allclose(stress[:, 8], want, rtol=1e-11, atol=1e-300)
+
+    def check_sidecar(self, xmf):
+        folder = os.path.dirname(xmf)
+        h5 = h5py.File(xmf[:-4] + ".h5", "r")
+        n = int(h5["particles/x"].shape[0])
+        grid = ET.parse(xmf).getroot().find("Domain/Grid")
+        self.assertEqual(float(grid.find("Time").get("Value")), h5.attrs["time"], xmf)
+        topo = grid.find("Topology")
+        self.assertEqual(topo.get("TopologyType"), "Polyvertex")
+        self.assertEqual(int(topo.get("NumberOfElements")), n)
+        dim = int(h5.attrs["dimension"])
+        self.assertEqual(grid.find("Geometry").get("GeometryType"), "XYZ" if dim == 3 else "XY")
+        items = grid.findall(".//DataItem[@Format='HDF']")
+        self.assertEqual(len(items), 9, "geometry and eight attributes")
+        for item in items:
+            name, dataset = item.text.split(":")
+            self.assertEqual(os.path.join(folder, name), xmf[:-4] + ".h5", "its own snapshot")
+            data = h5[dataset]
+            dims = tuple(int(v) for v in item.get("Dimensions").split())
+            self.assertEqual(tuple(data.shape) if data.ndim > 1 and data.shape[1] > 1
+                             else (data.shape[0],), dims, dataset)
+            want = XDMF_TYPES[(item.get("NumberType"), int(item.get("Precision")))]
+            self.assertEqual(data.dtype.str.lstrip("<|"), want, dataset)
+        slab = grid.find(".//DataItem[@ItemType='HyperSlab']")
+        start, stride, count = np.array(slab.find("DataItem[@Format='XML']").text.split(),
+                                        dtype=int).reshape(3, 2)
+        self.assertEqual(list(start), [0, 0], "from row 0, column 0 (the id's index)")
+        self.assertEqual(list(stride), [1, 1])
+        self.assertEqual(list(count), [n, 1], "every grain, one column")
+        return n
+
+    def test_xdmf_sidecars(self):
+        snaps = os.path.join(self.out["binary"], "snapshots")
+        self.assertEqual(self.check_sidecar(os.path.join(snaps, "end_of_stage_1.xmf")), 300)
+        out2 = os.path.join(WORK, "two-d")
+        shutil.rmtree(out2, ignore_errors=True)
+        path = os.path.join(WORK, "two-d.toml")
+        with open(path, "w") as f:
+            f.write(SCENARIO_2D.format(out=out2))
+        subprocess.run([SABLE, "run", path], check=True, stdout=subprocess.DEVNULL,
+                       stderr=subprocess.DEVNULL)
+        names = sorted(os.listdir(os.path.join(out2, "snapshots")))
+        self.assertEqual(names, ["end_of_stage_1.h5", "end_of_stage_1.xmf", "step_0000000250.h5",
+                                 "step_0000000250.xmf", "step_0000000500.h5",
+                                 "step_0000000500.xmf"])
+        for name in names:
+            if name.endswith(".xmf"):
+                self.assertEqual(self.check_sidecar(os.path.join(out2, "snapshots", name)), 60)
 
     def test_bad_format_is_refused(self):
         path = os.path.join(WORK, "bad.toml")
