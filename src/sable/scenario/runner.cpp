@@ -1,5 +1,7 @@
 #include "sable/scenario/runner.hpp"
 
+#include "sable/scenario/simulation.hpp"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <omp.h>
@@ -48,64 +50,34 @@ std::string box_text(const World<D>& w, const std::optional<BoxState<D>>& ref) {
       fmt::join(eps.data(), eps.data() + D, ", "), b->solid_fraction);
 }
 
-template <int D>
-class Runner {
- public:
-  Runner(const ScenarioConfig& cfg, const RunOptions& opt)
-      : cfg_(cfg),
-        opt_(opt),
-        out_(opt.out_dir.empty() ? cfg.output.dir : opt.out_dir),
-        progress_(*opt.log, opt.live_progress.value_or(isatty(STDERR_FILENO) == 1),
-                  cfg.output.log_interval),
-        solver_(make_solver(cfg, world_)) {}
-
-  RunResult run();
-
- private:
-  void setup();
-  void check_changes(const std::string& snapshot_text);
-  void adopt_scenario_steps();
-  void open_outputs(bool resuming);
-  void start_stage();
-  void wet();
-  bool stage_done();
-  void load_servo_targets();
-  void after_step();
-  void write_frame();
-  void write_snapshot(const std::string& file);
-  void write_csv_row();
-  RunResult result(std::chrono::steady_clock::time_point t0) const;
-  RunResult interrupted(std::chrono::steady_clock::time_point t0);
-  ProgressSample sample() const;
-  // Wall clock and phase timers at the start of a stage, for its summary line.
-  struct StageClock {
-    StageClock(std::uint64_t s, const PhaseTimers& t) : step(s) {
-      for (int k = 0; k < static_cast<int>(Phase::kCount); ++k)
-        phase_seconds[k] = t.seconds(static_cast<Phase>(k));
-    }
-    std::uint64_t step;
-    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
-    std::array<double, static_cast<int>(Phase::kCount)> phase_seconds{};
-  };
-  std::string stage_summary(const StageClock& c) const;
-
-  const ScenarioConfig& cfg_;
-  RunOptions opt_;
-  fs::path out_;
-  World<D> world_;
-  ProgressReporter progress_;
-  std::unique_ptr<Solver> solver_;
-  RunPosition pos_;
-  std::optional<CsvLog> csv_;
-  std::optional<PvdSeries> grains_pvd_, contacts_pvd_, walls_pvd_;
-  std::vector<ServoTarget> servo_;  // this stage's stress-controlled walls
-  std::optional<BoxState<D>> box_ref_ = scenario_box<D>(cfg_);  // strain reference, if a box
-  bool warned_overlap_ = false;
-  bool warned_unconverged_ = false;
-};
+}  // namespace
 
 template <int D>
-void Runner<D>::setup() {
+Simulation<D>::Simulation(ScenarioConfig cfg, const RunOptions& opt)
+    : cfg_(std::move(cfg)),
+      opt_(opt),
+      out_(opt.out_dir.empty() ? cfg_.output.dir : opt.out_dir),
+      progress_(*opt.log, opt.live_progress.value_or(isatty(STDERR_FILENO) == 1),
+                cfg_.output.log_interval),
+      solver_(make_solver(cfg_, world_)),
+      box_ref_(scenario_box<D>(cfg_)) {}
+
+template <int D>
+Simulation<D>::~Simulation() = default;
+
+// The sidecar after its snapshot: a crash between the two leaves a snapshot without one
+// (harmless), never a sidecar naming a missing or older file.
+template <int D>
+void Simulation<D>::save(const std::string& path) const {
+  std::error_code ec;
+  const fs::path scenario = fs::absolute(cfg_.path, ec);
+  save_snapshot(world_, pos_, cfg_.text, path, ec ? std::string() : scenario.string());
+  write_xdmf({fs::path(path).filename().string(), D, world_.particles.size(), world_.time},
+             fs::path(path).replace_extension(".xmf").string());
+}
+
+template <int D>
+void Simulation<D>::setup() {
   for (const auto& w : cfg_.warnings) progress_.message("warning: " + w);
   build_model(cfg_, world_);
   if (opt_.resume.empty()) {
@@ -127,7 +99,7 @@ void Runner<D>::setup() {
 // A resume under another scenario text: [output] and [[stage]] may differ; any other change
 // is refused unless accepted, and then reported key by key (scenario/resume_changes.hpp).
 template <int D>
-void Runner<D>::check_changes(const std::string& snapshot_text) {
+void Simulation<D>::check_changes(const std::string& snapshot_text) {
   const auto changes =
       scenario_changes(snapshot_text, opt_.resume + " (its scenario)", cfg_.text, cfg_.path);
   if (changes.empty()) {
@@ -158,7 +130,7 @@ void Runner<D>::check_changes(const std::string& snapshot_text) {
 // The skin never shrinks below the snapshot's (capillary bridges may have raised it); a
 // larger one forces a neighbour rebuild, since the lists only hold pairs within the old one.
 template <int D>
-void Runner<D>::adopt_scenario_steps() {
+void Simulation<D>::adopt_scenario_steps() {
   const double dt = scenario_time_step(cfg_, world_);
   if (dt != world_.dt) {
     progress_.message(fmt::format(
@@ -173,7 +145,7 @@ void Runner<D>::adopt_scenario_steps() {
 }
 
 template <int D>
-void Runner<D>::open_outputs(bool resuming) {
+void Simulation<D>::open_outputs(bool resuming) {
   OutputFolderRequest req{out_.string(), std::nullopt, opt_.resume, opt_.overwrite};
   if (resuming) req.resume_step = world_.step;
   prepare_output_folder(req, [this](const std::string& m) { progress_.message(m); });
@@ -232,7 +204,7 @@ void Runner<D>::open_outputs(bool resuming) {
 }
 
 template <int D>
-ProgressSample Runner<D>::sample() const {
+ProgressSample Simulation<D>::sample() const {
   const StageConfig& st = cfg_.stages[pos_.stage];
   ProgressSample s;
   s.stage = st.name.empty() ? fmt::format("stage {}", pos_.stage + 1) : st.name;
@@ -247,7 +219,7 @@ ProgressSample Runner<D>::sample() const {
 }
 
 template <int D>
-void Runner<D>::start_stage() {
+void Simulation<D>::start_stage() {
   const StageConfig& st = cfg_.stages[pos_.stage];
   for (const auto& [name, vel] : st.wall_velocity)
     for (std::size_t k : walls_named(world_, name))
@@ -266,7 +238,7 @@ void Runner<D>::start_stage() {
 
 // Distribute the stage's liquid, then recompute the forces (the step starts from them).
 template <int D>
-void Runner<D>::wet() {
+void Simulation<D>::wet() {
   const StageConfig& st = cfg_.stages[pos_.stage];
   const WettingResult r = wet_grains(world_, *st.water_content, st.liquid_density);
   solver_->initialize();
@@ -280,7 +252,7 @@ void Runner<D>::wet() {
 // The stage's stress-controlled walls; also when resuming in the middle of a stage. A solver
 // that moves them as bodies (contact dynamics) drops the last stage's here.
 template <int D>
-void Runner<D>::load_servo_targets() {
+void Simulation<D>::load_servo_targets() {
   servo_.clear();
   for (const auto& [name, stress] : cfg_.stages[pos_.stage].wall_stress)
     for (std::size_t k : walls_named(world_, name)) {
@@ -291,7 +263,7 @@ void Runner<D>::load_servo_targets() {
 }
 
 template <int D>
-bool Runner<D>::stage_done() {
+bool Simulation<D>::stage_done() {
   const StageConfig& st = cfg_.stages[pos_.stage];
   if (st.steps) return pos_.stage_step >= *st.steps;
   // Never at the stage's first step: grains placed at rest would end a settling stage at once.
@@ -317,7 +289,7 @@ bool Runner<D>::stage_done() {
 }
 
 template <int D>
-void Runner<D>::after_step() {
+void Simulation<D>::after_step() {
   const auto step = world_.step;
   const auto& o = cfg_.output;
   const auto& diag = solver_->diagnostics();
@@ -344,7 +316,7 @@ void Runner<D>::after_step() {
 }
 
 template <int D>
-void Runner<D>::write_frame() {
+void Simulation<D>::write_frame() {
   const std::string stem = fmt::format("{:010d}.vtp", world_.step);
   const VtkEncoding format = cfg_.output.vtk_format;
   write_grains_vtp(world_, (out_ / "vtk" / ("grains_" + stem)).string(), format);
@@ -360,19 +332,12 @@ void Runner<D>::write_frame() {
 }
 
 template <int D>
-void Runner<D>::write_snapshot(const std::string& file) {
-  std::error_code ec;
-  const fs::path scenario = fs::absolute(cfg_.path, ec);
-  const fs::path path = out_ / "snapshots" / file;
-  save_snapshot(world_, pos_, cfg_.text, path.string(), ec ? std::string() : scenario.string());
-  // The sidecar after its snapshot: a crash between the two leaves a snapshot without one
-  // (harmless), never a sidecar naming a missing or older file.
-  write_xdmf({file, D, world_.particles.size(), world_.time},
-             fs::path(path).replace_extension(".xmf").string());
+void Simulation<D>::write_snapshot(const std::string& file) {
+  save((out_ / "snapshots" / file).string());
 }
 
 template <int D>
-void Runner<D>::write_csv_row() {
+void Simulation<D>::write_csv_row() {
   const auto& nl = world_.neighbors;
   std::size_t pairs = 0, walls = 0;
   for (const auto& f : nl.pairs.force) pairs += f.squaredNorm() > 0.0 ? 1 : 0;
@@ -404,7 +369,7 @@ void Runner<D>::write_csv_row() {
 }
 
 template <int D>
-std::string Runner<D>::stage_summary(const StageClock& c) const {
+std::string Simulation<D>::stage_summary(const StageClock& c) const {
   const double secs =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - c.start).count();
   const auto steps = world_.step - c.step;
@@ -430,68 +395,115 @@ std::string Runner<D>::stage_summary(const StageClock& c) const {
 }
 
 template <int D>
-RunResult Runner<D>::run() {
-  const auto t0 = std::chrono::steady_clock::now();
+void Simulation<D>::start() {
+  if (started_) return;
+  started_ = true;
+  t0_ = std::chrono::steady_clock::now();
   setup();
-  try {
-    for (; pos_.stage < cfg_.stages.size(); ++pos_.stage, pos_.stage_step = 0) {
-      if (pos_.stage_step == 0) start_stage();
-      load_servo_targets();
-      world_.viscous_rate = cfg_.stages[pos_.stage].viscous_damping;
-      const StageClock clock(world_.step, solver_->timers());
-      while (!stage_done()) {
-        if (!servo_.empty()) {  // loading/servo.hpp: DEM servo, or CD wall bodies
-          const StageConfig& st = cfg_.stages[pos_.stage];
-          const ServoSettings s{st.servo_gain, st.servo_max_velocity, st.stress_scale,
-                                st.servo_wall_mass};
-          if (solver_->moves_wall_bodies())
-            solver_->set_wall_bodies(wall_bodies(world_, servo_, s));
-          else
-            servo_walls(world_, servo_, s);
-        }
-        solver_->step();
-        ++pos_.stage_step;
-        after_step();
-        if (opt_.stop && *opt_.stop != 0) return interrupted(t0);
-      }
-      progress_.report(sample());
-      progress_.message(stage_summary(clock));
-      if (opt_.write_outputs) {
-        write_frame();
-        write_snapshot(fmt::format("end_of_stage_{}.h5", pos_.stage + 1));
-      }
-    }
-  } catch (const SimulationError& e) {
-    progress_.finish_line();
-    if (opt_.write_outputs) {
-      const std::string file = fmt::format("crash_step_{:010d}.h5", world_.step);
-      write_snapshot(file);
-      throw SimulationError(
-          fmt::format("{}\nstate written to {}", e.what(), (out_ / "snapshots" / file).string()));
-    }
-    throw;
-  }
-  return result(t0);
 }
 
 template <int D>
-RunResult Runner<D>::result(std::chrono::steady_clock::time_point t0) const {
+void Simulation<D>::enter_stage() {
+  if (pos_.stage_step == 0) start_stage();
+  load_servo_targets();
+  world_.viscous_rate = cfg_.stages[pos_.stage].viscous_damping;
+  stage_clock_.emplace(world_.step, solver_->timers());
+}
+
+template <int D>
+void Simulation<D>::leave_stage() {
+  progress_.report(sample());
+  progress_.message(stage_summary(*stage_clock_));
+  if (opt_.write_outputs) {
+    write_frame();
+    write_snapshot(fmt::format("end_of_stage_{}.h5", pos_.stage + 1));
+  }
+  stage_clock_.reset();
+  ++pos_.stage;
+  pos_.stage_step = 0;
+}
+
+// The step itself: the stress-controlled walls loaded (loading/servo.hpp: the DEM servo, or
+// CD wall bodies), the solver's step, then the outputs due.
+template <int D>
+void Simulation<D>::one_step() {
+  if (!servo_.empty()) {
+    const StageConfig& st = cfg_.stages[pos_.stage];
+    const ServoSettings s{st.servo_gain, st.servo_max_velocity, st.stress_scale,
+                          st.servo_wall_mass};
+    if (solver_->moves_wall_bodies())
+      solver_->set_wall_bodies(wall_bodies(world_, servo_, s));
+    else
+      servo_walls(world_, servo_, s);
+  }
+  solver_->step();
+  ++pos_.stage_step;
+  after_step();
+}
+
+template <int D>
+bool Simulation<D>::advance() {
+  start();
+  try {
+    while (!finished()) {
+      if (!stage_clock_) enter_stage();
+      if (!stage_done()) {
+        one_step();
+        return true;
+      }
+      leave_stage();
+    }
+  } catch (const SimulationError& e) {
+    progress_.finish_line();
+    if (!opt_.write_outputs) throw;
+    throw crashed(e);
+  }
+  return false;
+}
+
+template <int D>
+void Simulation<D>::finish_ended_stage() {
+  if (!started_ || finished()) return;
+  if (!stage_clock_) enter_stage();
+  if (stage_done()) leave_stage();
+}
+
+template <int D>
+RunResult Simulation<D>::run() {
+  start();
+  while (advance())
+    if (opt_.stop && *opt_.stop != 0) return interrupted();
+  return result();
+}
+
+// The state of the step that failed, written for a look (crash_step_N.h5), and the error
+// that says where.
+template <int D>
+SimulationError Simulation<D>::crashed(const SimulationError& e) {
+  const std::string file = fmt::format("crash_step_{:010d}.h5", world_.step);
+  write_snapshot(file);
+  return SimulationError(
+      fmt::format("{}\nstate written to {}", e.what(), (out_ / "snapshots" / file).string()));
+}
+
+template <int D>
+RunResult Simulation<D>::result() const {
   RunResult r;
   r.steps = world_.step;
   r.time = world_.time;
   r.state_hash = state_hash(world_);
   r.grains = world_.particles.size();
   r.kinetic_energy = kinetic_energy(world_);
-  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
   return r;
 }
 
 // A signal asked the run to stop: the step is complete, so the state is consistent; it is
 // written like any snapshot (atomically), and a resume from it continues bit for bit.
 template <int D>
-RunResult Runner<D>::interrupted(std::chrono::steady_clock::time_point t0) {
+RunResult Simulation<D>::interrupted() {
   progress_.finish_line();
-  RunResult r = result(t0);
+  RunResult r = result();
   r.interrupted_by = static_cast<int>(*opt_.stop);
   if (opt_.write_outputs) {
     const std::string file = fmt::format("interrupted_step_{:010d}.h5", world_.step);
@@ -500,6 +512,11 @@ RunResult Runner<D>::interrupted(std::chrono::steady_clock::time_point t0) {
   }
   return r;
 }
+
+template class Simulation<2>;
+template class Simulation<3>;
+
+namespace {
 
 template <int D>
 std::string describe(const ScenarioConfig& cfg) {
@@ -518,8 +535,8 @@ std::string describe(const ScenarioConfig& cfg) {
 
 RunResult run_scenario(const ScenarioConfig& cfg, const RunOptions& opt) {
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
-  if (cfg.sim.dimension == 2) return Runner<2>(cfg, opt).run();
-  return Runner<3>(cfg, opt).run();
+  if (cfg.sim.dimension == 2) return Simulation<2>(cfg, opt).run();
+  return Simulation<3>(cfg, opt).run();
 }
 
 std::string describe_scenario(const ScenarioConfig& cfg) {

@@ -1,0 +1,117 @@
+// A scenario being run: the world, its solver, its stages and its outputs, advanced one step
+// at a time. `sable run` is `Simulation<D>(cfg, opt).run()`; the Python module drives the same
+// object a step, a stage or a run at a time, so both give the same bits.
+//
+// The stage sequence: a stage is entered (its wall motions set and its water added, at its
+// first step only; its stress-controlled walls loaded), then stepped until its rule holds
+// (a step count, or a kinetic energy and a wall-stress error checked every check_interval
+// steps, with a step cap), then left (its summary line, a VTK frame and the snapshot
+// end_of_stage_K.h5). The rule is checked before each step, so a stage whose rule already
+// holds takes no step. advance() takes exactly one step, leaving the stages that have ended
+// and entering the next first; a stage's end outputs are therefore written when the next
+// step is asked for, or by finish_ended_stage().
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sable/core/error.hpp"
+#include "sable/io/csv.hpp"
+#include "sable/io/snapshot.hpp"
+#include "sable/io/vtk.hpp"
+#include "sable/loading/box_state.hpp"
+#include "sable/loading/servo.hpp"
+#include "sable/scenario/config.hpp"
+#include "sable/scenario/progress.hpp"
+#include "sable/scenario/runner.hpp"
+#include "sable/world/solver.hpp"
+#include "sable/world/world.hpp"
+
+namespace sable {
+
+template <int D>
+class Simulation {
+ public:
+  // Builds the model (not yet the grains: start() does, or loads opt.resume).
+  Simulation(ScenarioConfig cfg, const RunOptions& opt);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  // The grains generated (or the snapshot loaded), the output folder prepared, the first
+  // frame written. Called by the first advance() if not before.
+  void start();
+  // One step, leaving ended stages and entering the next first. False, with no step taken,
+  // once every stage has ended (their end outputs written). A SimulationError (a grain gone
+  // non-finite) writes snapshots/crash_step_N.h5 first and propagates.
+  bool advance();
+  // Leave the current stage if its rule holds now (its end outputs), without stepping.
+  void finish_ended_stage();
+  bool finished() const { return pos_.stage >= cfg_.stages.size(); }
+  // Everything left, as `sable run` does; stops early at opt.stop (interrupted_step_N.h5).
+  RunResult run();
+  RunResult result() const;
+
+  // Write the current state as a snapshot at `path` (atomically), with its XDMF sidecar.
+  void save(const std::string& path) const;
+
+  World<D>& world() { return world_; }
+  const World<D>& world() const { return world_; }
+  const ScenarioConfig& config() const { return cfg_; }
+  const RunPosition& position() const { return pos_; }
+  const Solver& solver() const { return *solver_; }
+
+ private:
+  void setup();
+  void check_changes(const std::string& snapshot_text);
+  void adopt_scenario_steps();
+  void open_outputs(bool resuming);
+  void enter_stage();
+  void leave_stage();
+  void one_step();
+  void start_stage();
+  void wet();
+  bool stage_done();
+  void load_servo_targets();
+  void after_step();
+  void write_frame();
+  void write_snapshot(const std::string& file);
+  void write_csv_row();
+  RunResult interrupted();
+  SimulationError crashed(const SimulationError& e);
+  ProgressSample sample() const;
+  // Wall clock and phase timers at the start of a stage, for its summary line.
+  struct StageClock {
+    StageClock(std::uint64_t s, const PhaseTimers& t) : step(s) {
+      for (int k = 0; k < static_cast<int>(Phase::kCount); ++k)
+        phase_seconds[k] = t.seconds(static_cast<Phase>(k));
+    }
+    std::uint64_t step;
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+    std::array<double, static_cast<int>(Phase::kCount)> phase_seconds{};
+  };
+  std::string stage_summary(const StageClock& c) const;
+
+  ScenarioConfig cfg_;
+  RunOptions opt_;
+  std::filesystem::path out_;
+  World<D> world_;
+  ProgressReporter progress_;
+  std::unique_ptr<Solver> solver_;
+  RunPosition pos_;
+  std::optional<CsvLog> csv_;
+  std::optional<PvdSeries> grains_pvd_, contacts_pvd_, walls_pvd_;
+  std::vector<ServoTarget> servo_;         // this stage's stress-controlled walls
+  std::optional<BoxState<D>> box_ref_;     // strain reference, if a box
+  std::optional<StageClock> stage_clock_;  // set while in a stage
+  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+  bool started_ = false;
+  bool warned_overlap_ = false;
+  bool warned_unconverged_ = false;
+};
+
+}  // namespace sable
