@@ -8,6 +8,8 @@ packages=(
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev libhdf5-dev
   # zlib-compressed VTK output (io/vtk_xml.hpp).
   zlib1g-dev
+  # The Python module (apps/python, python/sable; docs/python.md).
+  pybind11-dev python3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib clang-format clang-tidy
   # examples/silo-janssen/wall_contacts.py reads snapshots from Python.

@@ -513,6 +513,47 @@ RunResult Simulation<D>::interrupted() {
   return r;
 }
 
+// The current stage entered first (its own settings applied), so that the change is not
+// replaced by them at the next step.
+template <int D>
+std::vector<std::size_t> Simulation<D>::named_walls(const std::string& name) {
+  start();
+  if (!finished() && !stage_clock_) enter_stage();
+  auto walls = walls_named(world_, name);
+  if (walls.empty()) {
+    std::string known;
+    for (const auto& w : world_.walls) known += (known.empty() ? "" : ", ") + w.name;
+    throw InputError(fmt::format("no wall named '{}' (walls: {})", clip(name), known));
+  }
+  return walls;
+}
+
+template <int D>
+void Simulation<D>::set_wall_velocity(const std::string& name, const typename Space<D>::Vec& v) {
+  for (std::size_t k : named_walls(name)) world_.walls[k].velocity = v;
+}
+
+template <int D>
+void Simulation<D>::set_wall_rotation(const std::string& name, const typename Space<D>::Vec& point,
+                                      const typename Space<D>::Vec& axis, double rate) {
+  for (std::size_t k : named_walls(name)) world_.walls[k].set_rotation(point, axis, rate);
+}
+
+template <int D>
+void Simulation<D>::set_wall_stress(const std::string& name, double stress) {
+  const auto walls = named_walls(name);
+  if (finished()) throw InputError("set_wall_stress: every stage has ended");
+  for (std::size_t k : walls) {
+    wall_area(world_, k);  // checks the wall can be stress-controlled (InputError if not)
+    auto it = std::find_if(servo_.begin(), servo_.end(),
+                           [k](const ServoTarget& t) { return t.wall == k; });
+    if (it == servo_.end())
+      servo_.push_back({k, stress});
+    else
+      it->stress = stress;
+  }
+}
+
 template class Simulation<2>;
 template class Simulation<3>;
 

@@ -59,6 +59,16 @@ class Simulation {
   // Write the current state as a snapshot at `path` (atomically), with its XDMF sidecar.
   void save(const std::string& path) const;
 
+  // Between steps: the walls `name` names (a wall, or a box's six) given a translation
+  // velocity, a rotation (about the axis through `point`, rad/s), or a stress target
+  // (Pa; the stage's servo settings) for the rest of the current stage: the next stage's
+  // own settings replace them at its start, as a stage's replace the last one's. A name that
+  // names no wall throws InputError.
+  void set_wall_velocity(const std::string& name, const typename Space<D>::Vec& v);
+  void set_wall_rotation(const std::string& name, const typename Space<D>::Vec& point,
+                         const typename Space<D>::Vec& axis, double rate);
+  void set_wall_stress(const std::string& name, double stress);
+
   World<D>& world() { return world_; }
   const World<D>& world() const { return world_; }
   const ScenarioConfig& config() const { return cfg_; }
@@ -67,6 +77,7 @@ class Simulation {
 
  private:
   void setup();
+  std::vector<std::size_t> named_walls(const std::string& name);
   void check_changes(const std::string& snapshot_text);
   void adopt_scenario_steps();
   void open_outputs(bool resuming);
