@@ -90,7 +90,7 @@ py::dict contacts_of(const World<D>& w) {
   const auto& p = w.particles;
   const auto& pl = w.neighbors.pairs;
   std::vector<std::int64_t> id_i, id_j;
-  std::vector<Vec> normal, point, force;
+  std::vector<Vec> normal, point, force, tangential;
   std::vector<double> fn;
   for (std::size_t k = 0; k < pl.size(); ++k) {
     if (!(pl.force[k].array() != 0.0).any()) continue;
@@ -105,6 +105,7 @@ py::dict contacts_of(const World<D>& w) {
     point.push_back(p.x[j] + n * (0.5 * (dist + p.radius[j] - p.radius[i])));
     force.push_back(pl.force[k]);
     fn.push_back(pl.force[k].dot(n));
+    tangential.push_back(pl.force[k] - fn.back() * n);
   }
   const auto& wl = w.neighbors.wall_pairs;
   std::vector<std::int64_t> wid;
@@ -123,6 +124,7 @@ py::dict contacts_of(const World<D>& w) {
   out["point"] = rows_of(point);
   out["normal_force"] = copy_of(fn);
   out["force"] = rows_of(force);
+  out["tangential_force"] = rows_of(tangential);
   out["wall_grain_id"] = copy_of(wid);
   out["wall_index"] = copy_of(wall);
   out["wall_force"] = rows_of(wforce);
@@ -135,7 +137,13 @@ py::dict walls_of(const World<D>& w) {
   std::vector<std::string> names;
   std::vector<typename S::Vec> point, velocity, force;
   std::vector<typename S::Rot> spin, torque;
+  std::vector<double> orientation;  // 3D: a quaternion w, x, y, z per wall; 2D: an angle
   for (const auto& wall : w.walls) {
+    if constexpr (D == 3)
+      orientation.insert(orientation.end(), {wall.orientation.w(), wall.orientation.x(),
+                                             wall.orientation.y(), wall.orientation.z()});
+    else
+      orientation.push_back(wall.orientation);
     names.push_back(wall.name);
     point.push_back(wall.point);
     velocity.push_back(wall.velocity);
@@ -150,6 +158,10 @@ py::dict walls_of(const World<D>& w) {
   out["force"] = rows_of(force);
   out["spin"] = rows_of(spin);
   out["torque"] = rows_of(torque);
+  py::array_t<double> q = copy_of(orientation);
+  out["orientation"] = D == 3 ? py::array_t<double>(q.reshape(
+                                    {static_cast<py::ssize_t>(w.walls.size()), py::ssize_t{4}}))
+                              : q;
   return out;
 }
 
@@ -483,11 +495,14 @@ Contacts and walls come as new arrays.)";
           [](PySimulation& s) {
             return s.with([](auto& sim) { return contacts_of(sim.world()); });
           },
-          "The touching contacts as arrays (new arrays).")
+          "The touching contacts (new arrays): id_i, id_j, normal (from j to i), point, "
+          "normal_force, force and tangential_force (on i); wall_grain_id, wall_index, "
+          "wall_force.")
       .def(
           "walls",
           [](PySimulation& s) { return s.with([](auto& sim) { return walls_of(sim.world()); }); },
-          "The walls: names, point, velocity, force, spin, torque (new arrays).")
+          "The walls: names, point, orientation (3D: quaternion w, x, y, z; 2D: angle), "
+          "velocity, force, spin, torque (new arrays).")
       .def(
           "set_wall_velocity",
           [](PySimulation& s, const std::string& name, const std::vector<double>& v) {

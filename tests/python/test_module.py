@@ -200,9 +200,17 @@ class Module(unittest.TestCase):
             self.assertEqual(len(c["normal_force"]), touching.sum())
             self.assertTrue(np.array_equal(c["force"], pairs["force"][:][touching]))
             self.assertTrue(np.array_equal(c["id_i"], p["id"][:, 0][pairs["i"][:][touching]]))
+            # f = (f.n) n + f_t: each component rounded twice (the product, the difference).
+            f = c["force"]
+            rebuilt = c["normal_force"][:, None] * c["normal"] + c["tangential_force"]
+            self.assertLessEqual(np.abs(rebuilt - f).max(), 4 * np.finfo(float).eps *
+                                 np.abs(f).max())
+            self.assertTrue((np.abs((c["tangential_force"] * c["normal"]).sum(axis=1)) <=
+                             4 * np.finfo(float).eps * np.abs(f).max()).all(), "in the plane")
             w = sim.walls()
             self.assertEqual(w["names"], [n.decode() for n in s["walls/names"][:]])
             self.assertTrue(np.array_equal(w["force"], s["walls/force"][:]))
+            self.assertTrue(np.array_equal(w["orientation"], s["walls/orientation"][:]))
         info = subprocess.run([SABLE, "info", os.path.join(self.cli_out, "snapshots",
                                                            "end_of_stage_2.h5")],
                               check=True, capture_output=True, text=True).stdout
