@@ -16,6 +16,7 @@
 
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <streambuf>
 #include <string>
@@ -54,6 +55,15 @@ py::array view(const double* data, std::size_t count, std::size_t cols, const py
                     ? py::array(py::dtype::of<double>(), {count}, {sizeof(double)}, data, owner)
                     : py::array(py::dtype::of<double>(), {count, cols},
                                 {cols * sizeof(double), sizeof(double)}, data, owner);
+  a.attr("setflags")(py::arg("write") = false);
+  return a;
+}
+
+// The stable ids' indices: column 0 of the (index, generation) pairs, a read-only view.
+py::array id_view(const std::vector<sable::ParticleId>& ids, const py::object& owner) {
+  static_assert(sizeof(sable::ParticleId) == 2 * sizeof(std::uint32_t));
+  py::array a(py::dtype::of<std::uint32_t>(), {ids.size()}, {sizeof(sable::ParticleId)},
+              reinterpret_cast<const std::uint32_t*>(ids.data()), owner);
   a.attr("setflags")(py::arg("write") = false);
   return a;
 }
@@ -372,7 +382,7 @@ py::dict snapshot_dict(const std::string& path) {
   py::dict views;
   grain_views(views, w.particles, D, none);
   for (auto item : views) out[item.first] = py::array(item.second.cast<py::array>()).attr("copy")();
-  std::vector<std::int64_t> ids;
+  std::vector<std::uint32_t> ids;
   for (const auto& id : w.particles.id) ids.push_back(id.index);
   out["ids"] = copy_of(ids);
   out["contacts"] = contacts_of(w);
@@ -452,15 +462,28 @@ Contacts and walls come as new arrays.)";
           py::arg("n") = 1, "Take up to n steps (fewer if the scenario ends); returns how many.")
       .def(
           "run_stage",
-          [](PySimulation& s) {
-            const auto stage = s.with([](auto& sim) {
+          [](PySimulation& s, const std::optional<std::string>& name) {
+            const auto last = s.with([&](auto& sim) {
               sim.start();
-              return sim.position().stage;
+              const auto& stages = sim.config().stages;
+              const std::uint32_t now = sim.position().stage;
+              if (!name) return now;
+              for (std::uint32_t k = 0; k < stages.size(); ++k) {
+                if (stages[k].name != *name) continue;
+                if (k < now)
+                  throw sable::InputError(fmt::format("run_stage: stage '{}' has ended", *name));
+                return k;
+              }
+              std::string known;
+              for (const auto& st : stages) known += (known.empty() ? "" : ", ") + st.name;
+              throw sable::InputError(fmt::format("run_stage: no stage named '{}' (stages: {})",
+                                                  sable::clip(*name), known));
             });
-            return s.advance(-1,
-                             [stage](const auto& sim) { return sim.position().stage != stage; });
+            return s.advance(-1, [last](const auto& sim) { return sim.position().stage > last; });
           },
-          "Run the current stage to its end (its end outputs written); returns the steps.")
+          py::arg("name") = py::none(),
+          "Run to the end of the current stage, or of the stage `name` (the stages before it "
+          "too), its end outputs written; returns the steps taken.")
       .def(
           "run",
           [](PySimulation& s) {
@@ -482,14 +505,12 @@ Contacts and walls come as new arrays.)";
             s.with([&](auto& sim) {
               sim.start();
               grain_views(out, sim.world().particles, s.dimension(), self);
-              std::vector<std::int64_t> ids;
-              for (const auto& id : sim.world().particles.id) ids.push_back(id.index);
-              out["ids"] = copy_of(ids);
+              out["ids"] = id_view(sim.world().particles.id, self);
             });
             return out;
           },
-          "positions, velocities, angular_velocities, forces, torques, radii, masses (views) "
-          "and ids (the stable id's index).")
+          "positions, velocities, angular_velocities, forces, torques, radii, masses and ids "
+          "(the stable ids' indices, uint32): read-only views of the live arrays.")
       .def(
           "contacts",
           [](PySimulation& s) {
@@ -528,12 +549,13 @@ Contacts and walls come as new arrays.)";
           "rest of the current stage (2D: axis is ignored but must have 2 numbers).")
       .def(
           "set_wall_stress",
-          [](PySimulation& s, const std::string& name, double stress) {
-            s.with([&](auto& sim) { sim.set_wall_stress(name, stress); });
+          [](PySimulation& s, const std::string& name, double stress, double max_velocity) {
+            s.with([&](auto& sim) { sim.set_wall_stress(name, stress, max_velocity); });
           },
-          py::arg("name"), py::arg("stress"),
-          "Drive the walls `name` names to this normal stress (Pa), with the stage's servo "
-          "settings, for the rest of the current stage.")
+          py::arg("name"), py::arg("stress"), py::arg("max_velocity") = 0.0,
+          "Drive the walls `name` names to this normal stress (Pa) for the rest of the current "
+          "stage, with the stage's servo settings; max_velocity (m/s) > 0 replaces its "
+          "servo_max_velocity (a stage without stress targets has none: then it is needed).")
       .def_property_readonly("dimension", &PySimulation::dimension)
       .def_property_readonly(
           "steps",

@@ -194,6 +194,8 @@ class Module(unittest.TestCase):
                 self.assertTrue(np.array_equal(g[key], p[dataset][:]), key)
                 self.assertFalse(g[key].flags.writeable, key)
             self.assertTrue(np.array_equal(g["ids"], p["id"][:, 0]))
+            self.assertEqual(g["ids"].dtype, np.uint32)
+            self.assertFalse(g["ids"].flags.writeable)
             pairs = s["neighbors/pairs"]
             touching = (pairs["force"][:] != 0).any(axis=1)
             c = sim.contacts()
@@ -216,6 +218,40 @@ class Module(unittest.TestCase):
                               check=True, capture_output=True, text=True).stdout
         self.assertRegex(info, rf"grains\s+{len(g['radii'])}\n")
         self.assertRegex(info, rf"state hash\s+{sim.state_hash:016x}\n")
+
+    def test_run_to_a_named_stage(self):
+        sim = self.sim("py-named", outputs=False)
+        with self.assertRaises(sable.InputError) as e:
+            sim.run_stage("lift")
+        self.assertIn("fall, push", str(e.exception), "the message lists the stages")
+        self.assertEqual(sim.run_stage("push"), 2000, "the stages before it run too")
+        self.assertEqual(sim.state_hash, self.cli_hash)
+        with self.assertRaises(sable.InputError):
+            sim.run_stage("fall")  # has ended
+
+    def test_wall_rotation_and_stress_between_steps(self):
+        sim = self.sim("py-turn", outputs=False)
+        sim.step(10)
+        p = sim.walls()["point"][0]  # box.xlo
+        sim.set_wall_rotation("box.xlo", p, [1.0, 0.0, 0.0], 2.0)
+        sim.step(50)
+        w, x = sim.walls()["orientation"][0][:2]
+        # The turn about x by rate x time, composed step by step: 1e-9 relative covers the
+        # round-off of 50 compositions of unit quaternions by far.
+        self.assertAlmostEqual(2 * np.arctan2(x, w), 2.0 * 50 * sim.dt,
+                               delta=1e-9 * 2.0 * 50 * sim.dt)
+        # A stress target on the lid, far above the grains: the servo moves it into them
+        # (too little stress: the wall advances, loading/servo.hpp).
+        with self.assertRaises(sable.InputError) as e:
+            sim.set_wall_stress("box.zhi", 50.0)  # this stage has no servo_max_velocity
+        self.assertIn("max_velocity", str(e.exception))
+        sim.set_wall_stress("box.zhi", 50.0, max_velocity=0.01)
+        sim.step(1)
+        # Its gain is max_velocity / target (the default): -50 Pa of error asks -0.01 m/s,
+        # up to the rounding of that quotient and product (2 ulps).
+        self.assertAlmostEqual(sim.walls()["velocity"][5, 2], -0.01, delta=2 * np.spacing(0.01))
+        with self.assertRaises(sable.InputError):
+            sim.set_wall_stress("lid", 50.0)
 
     def test_views_follow_the_simulation(self):
         sim = self.sim("py-views", outputs=False)

@@ -7,6 +7,7 @@
 #include <omp.h>
 #include <unistd.h>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 
@@ -407,6 +408,7 @@ void Simulation<D>::enter_stage() {
   if (pos_.stage_step == 0) start_stage();
   load_servo_targets();
   world_.viscous_rate = cfg_.stages[pos_.stage].viscous_damping;
+  servo_max_velocity_ = 0.0;
   stage_clock_.emplace(world_.step, solver_->timers());
 }
 
@@ -429,8 +431,9 @@ template <int D>
 void Simulation<D>::one_step() {
   if (!servo_.empty()) {
     const StageConfig& st = cfg_.stages[pos_.stage];
-    const ServoSettings s{st.servo_gain, st.servo_max_velocity, st.stress_scale,
-                          st.servo_wall_mass};
+    const ServoSettings s{st.servo_gain,
+                          servo_max_velocity_ > 0.0 ? servo_max_velocity_ : st.servo_max_velocity,
+                          st.stress_scale, st.servo_wall_mass};
     if (solver_->moves_wall_bodies())
       solver_->set_wall_bodies(wall_bodies(world_, servo_, s));
     else
@@ -540,9 +543,19 @@ void Simulation<D>::set_wall_rotation(const std::string& name, const typename Sp
 }
 
 template <int D>
-void Simulation<D>::set_wall_stress(const std::string& name, double stress) {
+void Simulation<D>::set_wall_stress(const std::string& name, double stress, double max_velocity) {
   const auto walls = named_walls(name);
   if (finished()) throw InputError("set_wall_stress: every stage has ended");
+  if (!(std::isfinite(stress) && std::isfinite(max_velocity) && max_velocity >= 0.0))
+    throw InputError(
+        fmt::format("set_wall_stress: stress {} Pa and max_velocity {} m/s: "
+                    "expected numbers, max_velocity >= 0",
+                    stress, max_velocity));
+  if (max_velocity > 0.0) servo_max_velocity_ = max_velocity;
+  if (servo_max_velocity_ <= 0.0 && cfg_.stages[pos_.stage].servo_max_velocity <= 0.0)
+    throw InputError(fmt::format(
+        "set_wall_stress: stage '{}' has no servo_max_velocity; give max_velocity (m/s)",
+        cfg_.stages[pos_.stage].name));
   for (std::size_t k : walls) {
     wall_area(world_, k);  // checks the wall can be stress-controlled (InputError if not)
     auto it = std::find_if(servo_.begin(), servo_.end(),

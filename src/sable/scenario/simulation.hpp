@@ -61,13 +61,14 @@ class Simulation {
 
   // Between steps: the walls `name` names (a wall, or a box's six) given a translation
   // velocity, a rotation (about the axis through `point`, rad/s), or a stress target
-  // (Pa; the stage's servo settings) for the rest of the current stage: the next stage's
-  // own settings replace them at its start, as a stage's replace the last one's. A name that
-  // names no wall throws InputError.
+  // (Pa; the stage's servo settings, its servo_max_velocity replaced by `max_velocity` when
+  // > 0, which a stage without stress targets needs) for the rest of the current stage: the
+  // next stage's own settings replace them at its start, as a stage's replace the last one's.
+  // A name that names no wall throws InputError.
   void set_wall_velocity(const std::string& name, const typename Space<D>::Vec& v);
   void set_wall_rotation(const std::string& name, const typename Space<D>::Vec& point,
                          const typename Space<D>::Vec& axis, double rate);
-  void set_wall_stress(const std::string& name, double stress);
+  void set_wall_stress(const std::string& name, double stress, double max_velocity = 0.0);
 
   World<D>& world() { return world_; }
   const World<D>& world() const { return world_; }
@@ -119,6 +120,7 @@ class Simulation {
   std::vector<ServoTarget> servo_;         // this stage's stress-controlled walls
   std::optional<BoxState<D>> box_ref_;     // strain reference, if a box
   std::optional<StageClock> stage_clock_;  // set while in a stage
+  double servo_max_velocity_ = 0.0;        // set_wall_stress's, for this stage (0: the stage's)
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
   bool started_ = false;
   bool warned_overlap_ = false;
