@@ -24,43 +24,11 @@ import h5py
 import numpy as np
 
 import sable
+from scenarios import box_2d, box_3d
 
 SABLE = WORK = None
-SCENARIO = """
-[simulation]
-dimension = 3
-seed = 11
-gravity = [0, 0, -9.81]
-
-[domain]
-lo = [0, 0, 0]
-hi = [0.02, 0.02, 0.04]
-
-[[material]]
-name = "g"
-density = 2500.0
-young = 5e6
-poisson = 0.45
-restitution = 0.6
-friction = 0.5
-
-[[grains]]
-generator = "lattice"
-arrangement = "hexagonal"
-material = "g"
-radius = {{ distribution = "uniform", mean = 1e-3, spread = 0.2 }}
-jitter = 0.1e-3
-spacing = 2.6e-3
-region = {{ box = {{ lo = [0, 0, 0], hi = [0.02, 0.02, 0.04] }} }}
-count = 300
-
-[[wall]]
-name = "box"
-type = "box"
-material = "g"
-lo = [0, 0, 0]
-hi = [0.02, 0.02, 0.04]
-
+# A fall, then the box's +x face pushed in: two stages, a moving wall.
+SCENARIO = box_3d(11, """
 [[stage]]
 name = "fall"
 steps = {fall}
@@ -73,44 +41,12 @@ wall_velocity = {{ "box.xhi" = [-0.05, 0, 0] }}
 [output]
 dir = "out"
 csv_interval = 100
-"""
-SCENARIO_2D = """
-[simulation]
-dimension = 2
-seed = 3
-gravity = [0.0, -9.81]
-thickness = 0.002
-
-[domain]
-lo = [0.0, 0.0]
-hi = [0.02, 0.04]
-
-[[material]]
-name = "g"
-density = 2500.0
-young = 5e6
-poisson = 0.45
-restitution = 0.6
-friction = 0.5
-
-[[grains]]
-generator = "random"
-material = "g"
-radius = { distribution = "uniform", mean = 1e-3, spread = 0.2 }
-region = { box = { lo = [0.0, 0.0], hi = [0.02, 0.04] } }
-count = 60
-
-[[wall]]
-name = "box"
-type = "box"
-material = "g"
-lo = [0.0, 0.0]
-hi = [0.02, 0.04]
-
+""")
+SCENARIO_2D = box_2d("""
 [[stage]]
 name = "settle"
 steps = 700
-"""
+""")
 
 
 def scenario_file(name, text):
@@ -297,7 +233,7 @@ class Module(unittest.TestCase):
             sable.analyze(snap, out_dir=os.path.join(WORK, "an-bad"), bins_count=3)
 
     def test_two_dimensions(self):
-        path = scenario_file("two.toml", SCENARIO_2D)
+        path = scenario_file("two.toml", SCENARIO_2D.format())
         cli = cli_run(path, os.path.join(WORK, "two-cli"))
         sim = sable.Simulation(sable.Scenario.load(path), outputs=False, threads=1)
         sim.run()

@@ -40,44 +40,11 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
                                 "scripts"))
 import vtkxml  # noqa: E402
+from scenarios import box_2d, box_3d  # noqa: E402
 
 SABLE = WORK = None
 STEPS = 3000
-SCENARIO = """
-[simulation]
-dimension = 3
-seed = 7
-gravity = [0, 0, -9.81]
-
-[domain]
-lo = [0, 0, 0]
-hi = [0.02, 0.02, 0.04]
-
-[[material]]
-name = "g"
-density = 2500.0
-young = 5e6
-poisson = 0.45
-restitution = 0.6
-friction = 0.5
-
-[[grains]]
-generator = "lattice"
-arrangement = "hexagonal"
-material = "g"
-radius = {{ distribution = "uniform", mean = 1e-3, spread = 0.2 }}
-jitter = 0.1e-3
-spacing = 2.6e-3
-region = {{ box = {{ lo = [0, 0, 0], hi = [0.02, 0.02, 0.04] }} }}
-count = 300
-
-[[wall]]
-name = "box"
-type = "box"
-material = "g"
-lo = [0, 0, 0]
-hi = [0.02, 0.02, 0.04]
-
+SCENARIO = box_3d(7, """
 [[stage]]
 name = "settle"
 steps = {steps}
@@ -85,41 +52,9 @@ steps = {steps}
 [output]
 dir = "{out}"
 vtk_format = "{fmt}"
-"""
+""")
 FORMATS = ("binary", "zlib", "ascii")
-SCENARIO_2D = """
-[simulation]
-dimension = 2
-seed = 3
-gravity = [0.0, -9.81]
-thickness = 0.002
-
-[domain]
-lo = [0.0, 0.0]
-hi = [0.02, 0.04]
-
-[[material]]
-name = "g"
-density = 2500.0
-young = 5e6
-poisson = 0.45
-restitution = 0.6
-friction = 0.5
-
-[[grains]]
-generator = "random"
-material = "g"
-radius = {{ distribution = "uniform", mean = 1e-3, spread = 0.2 }}
-region = {{ box = {{ lo = [0.0, 0.0], hi = [0.02, 0.04] }} }}
-count = 60
-
-[[wall]]
-name = "box"
-type = "box"
-material = "g"
-lo = [0.0, 0.0]
-hi = [0.02, 0.04]
-
+SCENARIO_2D = box_2d("""
 [[stage]]
 name = "settle"
 steps = 500
@@ -127,7 +62,7 @@ steps = 500
 [output]
 dir = "{out}"
 snapshot_interval = 250
-"""
+""")
 XDMF_TYPES = {("Float", 8): "f8", ("UInt", 4): "u4", ("UInt", 2): "u2", ("UChar", 1): "u1"}
 
 
