@@ -20,7 +20,8 @@ fields.csv columns written beside it (the CSV prints 12 significant digits: 1e-1
 plus an absolute 1e-300 for exact zeros).
 
 XDMF (VtkAgainstSnapshot.test_xdmf_sidecars, for the 3D run and a 2D one): every snapshot
-has a .xmf beside it whose every HDF reference names a dataset of that snapshot with the
+snapshots/NAME.h5 has its xdmf/NAME.xmf (and snapshots/ nothing else), whose every HDF
+reference names, by a relative path, a dataset of that snapshot with the
 declared dimensions, number type and byte size, whose grid has one vertex per grain, whose
 time is the snapshot's to the bit, and whose id hyperslab selects column 0 of /particles/id.
 
@@ -173,9 +174,9 @@ class VtkAgainstSnapshot(unittest.TestCase):
             want = np.array([float(r["sigma_zz_Pa"]) for r in rows])
             np.testing.assert_allclose(stress[:, 8], want, rtol=1e-11, atol=1e-300)
 
-    def check_sidecar(self, xmf):
+    def check_sidecar(self, xmf, snapshot):
         folder = os.path.dirname(xmf)
-        h5 = h5py.File(xmf[:-4] + ".h5", "r")
+        h5 = h5py.File(snapshot, "r")
         n = int(h5["particles/x"].shape[0])
         grid = ET.parse(xmf).getroot().find("Domain/Grid")
         self.assertEqual(float(grid.find("Time").get("Value")), h5.attrs["time"], xmf)
@@ -188,7 +189,8 @@ class VtkAgainstSnapshot(unittest.TestCase):
         self.assertEqual(len(items), 9, "geometry and eight attributes")
         for item in items:
             name, dataset = item.text.split(":")
-            self.assertEqual(os.path.join(folder, name), xmf[:-4] + ".h5", "its own snapshot")
+            self.assertEqual(os.path.normpath(os.path.join(folder, name)),
+                             os.path.normpath(snapshot), "its own snapshot, by a relative path")
             data = h5[dataset]
             dims = tuple(int(v) for v in item.get("Dimensions").split())
             self.assertEqual(tuple(data.shape) if data.ndim > 1 and data.shape[1] > 1
@@ -203,9 +205,12 @@ class VtkAgainstSnapshot(unittest.TestCase):
         self.assertEqual(list(count), [n, 1], "every grain, one column")
         return n
 
+    def sidecar_of(self, out, name):
+        return self.check_sidecar(os.path.join(out, "xdmf", name + ".xmf"),
+                                  os.path.join(out, "snapshots", name + ".h5"))
+
     def test_xdmf_sidecars(self):
-        snaps = os.path.join(self.out["binary"], "snapshots")
-        self.assertEqual(self.check_sidecar(os.path.join(snaps, "end_of_stage_1.xmf")), 300)
+        self.assertEqual(self.sidecar_of(self.out["binary"], "end_of_stage_1"), 300)
         out2 = os.path.join(WORK, "two-d")
         shutil.rmtree(out2, ignore_errors=True)
         path = os.path.join(WORK, "two-d.toml")
@@ -213,13 +218,14 @@ class VtkAgainstSnapshot(unittest.TestCase):
             f.write(SCENARIO_2D.format(out=out2))
         subprocess.run([SABLE, "run", path], check=True, stdout=subprocess.DEVNULL,
                        stderr=subprocess.DEVNULL)
-        names = sorted(os.listdir(os.path.join(out2, "snapshots")))
-        self.assertEqual(names, ["end_of_stage_1.h5", "end_of_stage_1.xmf", "step_0000000250.h5",
-                                 "step_0000000250.xmf", "step_0000000500.h5",
-                                 "step_0000000500.xmf"])
+        # snapshots/ holds snapshots only (scripts and tests list it); xdmf/ one sidecar each.
+        names = ["end_of_stage_1", "step_0000000250", "step_0000000500"]
+        self.assertEqual(sorted(os.listdir(os.path.join(out2, "snapshots"))),
+                         [n + ".h5" for n in names])
+        self.assertEqual(sorted(os.listdir(os.path.join(out2, "xdmf"))),
+                         [n + ".xmf" for n in names])
         for name in names:
-            if name.endswith(".xmf"):
-                self.assertEqual(self.check_sidecar(os.path.join(out2, "snapshots", name)), 60)
+            self.assertEqual(self.sidecar_of(out2, name), 60)
 
     def test_bad_format_is_refused(self):
         path = os.path.join(WORK, "bad.toml")

@@ -108,7 +108,7 @@ TEST(OutputFolder, AFreshRunRefusesAnotherRunsOutputs) {
   const std::string e = input_error([&] { run(pour(dir / "out", 600)); });
   EXPECT_TRUE(has(e,
                   "already holds a run's outputs (series.csv, grains.pvd, contacts.pvd, "
-                  "walls.pvd, vtk/, snapshots/)"))
+                  "walls.pvd, vtk/, snapshots/, xdmf/)"))
       << e;
   EXPECT_TRUE(has(e, "--overwrite")) << e;
   EXPECT_TRUE(fs::exists(dir / "out" / "snapshots" / "step_0000001000.h5"));  // untouched
@@ -134,20 +134,21 @@ TEST(OutputFolder, AResumeTidiesItsFolder) {
   const fs::path stale = snaps / "step_0000001000.h5.tmp-2147483646";  // no such process
   std::ofstream(stale) << "half a snapshot";
   const std::string e = input_error([&] { run(text, snap.string()); });
-  // Each later snapshot with its XDMF sidecar (the end-of-stage one has no step in its name:
-  // its sidecar goes by the snapshot's header), then the VTK frames.
+  // The later snapshots, VTK frames and the snapshots' XDMF sidecars (the end-of-stage one
+  // has no step in its name: its sidecar goes by its snapshot's header).
   EXPECT_TRUE(has(e,
                   "holds 9 outputs of steps after the resumed step 500 "
-                  "(snapshots/end_of_stage_1.h5, snapshots/end_of_stage_1.xmf, "
-                  "snapshots/step_0000001000.h5, snapshots/step_0000001000.xmf, "
-                  "snapshots/step_0000001500.h5, snapshots/step_0000001500.xmf and 3 more)"))
+                  "(snapshots/end_of_stage_1.h5, snapshots/step_0000001000.h5, "
+                  "snapshots/step_0000001500.h5, vtk/contacts_0000001500.vtp, "
+                  "vtk/grains_0000001500.vtp, vtk/walls_0000001500.vtp, "
+                  "xdmf/end_of_stage_1.xmf and 2 more)"))
       << e;
   EXPECT_FALSE(fs::exists(stale));
   fs::remove(snaps / "step_0000001000.h5");  // an orphan sidecar goes by the step in its name
   const auto resumed = run(text, snap.string(), true);
   EXPECT_EQ(resumed.state_hash, full.state_hash);
   EXPECT_TRUE(fs::exists(snap));
-  EXPECT_TRUE(fs::exists(snaps / "step_0000000500.xmf"));  // the resumed snapshot's, kept
+  EXPECT_TRUE(fs::exists(dir / "out" / "xdmf" / "step_0000000500.xmf"));  // the resumed one's
   EXPECT_TRUE(fs::exists(snaps / "step_0000001000.h5"));   // written again by the resume
   const std::string csv = read(dir / "out" / "series.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 16) << csv;  // header, steps 0..1500

@@ -3,8 +3,9 @@
 // as the geometry of a poly-vertex grid, and the per-grain datasets as point attributes.
 // Nothing is copied: every array is a reference `FILE.h5:/particles/...` to the snapshot's
 // own datasets (docs/snapshot.md lays them out), so the sidecar is a few kilobytes whatever
-// the run's size. The snapshot is named by its file name alone: the pair can be moved
-// together.
+// the run's size. The snapshot is named by its path relative to the sidecar's folder (a run
+// writes OUT/xdmf/NAME.xmf naming ../snapshots/NAME.h5: a folder of snapshots holds
+// snapshots only): the output folder can be moved whole.
 #pragma once
 
 #include <cstddef>
@@ -13,7 +14,7 @@
 namespace sable {
 
 struct XdmfSnapshot {
-  std::string h5_name;  // the snapshot's file name, relative to the sidecar's folder
+  std::string h5_name;  // the snapshot's path, relative to the sidecar's folder
   int dimension = 3;
   std::size_t grains = 0;
   double time = 0.0;

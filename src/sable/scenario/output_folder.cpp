@@ -19,9 +19,9 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kOwnedFiles[] = {"series.csv", "grains.pvd", "contacts.pvd", "walls.pvd"};
-constexpr const char* kOwnedDirs[] = {"vtk", "snapshots"};
+constexpr const char* kOwnedDirs[] = {"vtk", "snapshots", "xdmf"};
 constexpr std::size_t kListed =
-    6;  // names quoted in a message (every owned entry); the rest counted
+    7;  // names quoted in a message (every owned entry); the rest counted
 
 std::optional<std::uint64_t> parse_digits(std::string_view s) {
   if (s.empty() || s.size() > 19) return std::nullopt;
@@ -62,7 +62,7 @@ std::string listing(const std::vector<std::string>& names) {
 void remove_stale_temporaries(const fs::path& dir,
                               const std::function<void(const std::string&)>& log) {
   std::vector<std::string> removed;
-  for (const fs::path& d : {dir, dir / "vtk", dir / "snapshots"}) {
+  for (const fs::path& d : {dir, dir / "vtk", dir / "snapshots", dir / "xdmf"}) {
     std::error_code ec;
     if (!fs::is_directory(d, ec)) continue;
     for (const auto& e : fs::directory_iterator(d, ec)) {
@@ -99,7 +99,8 @@ std::optional<std::uint64_t> snapshot_step(const fs::path& p) {
   }
 }
 
-// Snapshots and VTK frames of steps after `step` (never `keep`, the snapshot being resumed).
+// Snapshots, their sidecars and VTK frames of steps after `step` (never `keep`, the snapshot
+// being resumed).
 std::vector<fs::path> outputs_after(const fs::path& dir, std::uint64_t step, const fs::path& keep) {
   std::vector<fs::path> out;
   std::error_code ec;
@@ -110,17 +111,17 @@ std::vector<fs::path> outputs_after(const fs::path& dir, std::uint64_t step, con
       const fs::path& p = e.path();
       if (!e.is_regular_file(ec) || temp_owner(p.filename().string())) continue;
       const bool snapshot = p.extension() == ".h5";
-      const bool sidecar = p.extension() == ".xmf";  // a snapshot's XDMF: goes with it
+      const bool sidecar = p.extension() == ".xmf";  // xdmf/NAME.xmf: snapshots/NAME.h5's
       if (!snapshot && !sidecar && p.extension() != ".vtp") continue;
       std::optional<std::uint64_t> s;
-      if (snapshot)
+      if (snapshot) {
         s = snapshot_step(p);
-      else if (sidecar)
-        s = fs::exists(fs::path(p).replace_extension(".h5"), ec)
-                ? snapshot_step(fs::path(p).replace_extension(".h5"))
-                : step_in_file_name(fs::path(p).replace_extension(".h5").filename().string());
-      else
+      } else if (sidecar) {
+        const fs::path h5 = dir / "snapshots" / fs::path(p.filename()).replace_extension(".h5");
+        s = fs::exists(h5, ec) ? snapshot_step(h5) : step_in_file_name(h5.filename().string());
+      } else {
         s = step_in_file_name(p.filename().string());
+      }
       if (s && *s > step && fs::weakly_canonical(p, ec) != kept) out.push_back(p);
     }
   }
@@ -137,7 +138,7 @@ void prepare_fresh(const OutputFolderRequest& req,
     throw InputError(fmt::format(
         "output folder '{}' already holds a run's outputs ({}); give another folder (--out or "
         "[output].dir), or --overwrite to delete them first (only series.csv, the .pvd files, "
-        "vtk/ and snapshots/ are deleted)",
+        "vtk/, snapshots/ and xdmf/ are deleted)",
         clip(req.dir), listing(present)));
   for (const auto& name : present) remove_or_throw(dir / name);
   log(fmt::format("--overwrite: deleted {} in {}", listing(present), clip(req.dir)));

@@ -1,12 +1,13 @@
 // What a run does with the output folder it is given (docs/reliability.md, "Output folders").
 //
 // A run owns these entries of its folder: series.csv, grains.pvd, contacts.pvd, walls.pvd,
-// vtk/ and snapshots/. Nothing else in the folder is read, changed or removed.
+// vtk/, snapshots/ and xdmf/ (the snapshots' XDMF sidecars). Nothing else in the folder is
+// read, changed or removed.
 // - A fresh run refuses a folder that already holds any of them (another run's snapshots
 //   left beside this run's would be taken for its own), unless `overwrite`, which deletes
 //   exactly those entries first.
 // - A resumed run continues the folder's series (series.csv and the .pvd files keep their
-//   entries up to the resume point). Snapshots (with their .xmf sidecars) and VTK frames of
+//   entries up to the resume point). Snapshots (with their sidecars) and VTK frames of
 //   steps after the resume point belong to a continuation this run replaces: it refuses them,
 //   unless `overwrite`, which deletes exactly those files. The snapshot being resumed is never
 //   deleted.

@@ -66,15 +66,24 @@ Simulation<D>::Simulation(ScenarioConfig cfg, const RunOptions& opt)
 template <int D>
 Simulation<D>::~Simulation() = default;
 
-// The sidecar after its snapshot: a crash between the two leaves a snapshot without one
-// (harmless), never a sidecar naming a missing or older file.
 template <int D>
 void Simulation<D>::save(const std::string& path) const {
+  save(path, fs::path(path).replace_extension(".xmf"));
+}
+
+// The sidecar after its snapshot: a crash between the two leaves a snapshot without one
+// (harmless), never a sidecar naming a missing or older file. It names the snapshot by its
+// path relative to the sidecar's folder.
+template <int D>
+void Simulation<D>::save(const fs::path& path, const fs::path& sidecar) const {
   std::error_code ec;
   const fs::path scenario = fs::absolute(cfg_.path, ec);
-  save_snapshot(world_, pos_, cfg_.text, path, ec ? std::string() : scenario.string());
-  write_xdmf({fs::path(path).filename().string(), D, world_.particles.size(), world_.time},
-             fs::path(path).replace_extension(".xmf").string());
+  save_snapshot(world_, pos_, cfg_.text, path.string(), ec ? std::string() : scenario.string());
+  const fs::path folder = sidecar.parent_path().empty() ? fs::path(".") : sidecar.parent_path();
+  const fs::path relative = fs::relative(path, folder, ec);
+  write_xdmf({(ec || relative.empty() ? fs::absolute(path) : relative).generic_string(), D,
+              world_.particles.size(), world_.time},
+             sidecar.string());
 }
 
 template <int D>
@@ -150,7 +159,7 @@ void Simulation<D>::open_outputs(bool resuming) {
   OutputFolderRequest req{out_.string(), std::nullopt, opt_.resume, opt_.overwrite};
   if (resuming) req.resume_step = world_.step;
   prepare_output_folder(req, [this](const std::string& m) { progress_.message(m); });
-  for (const char* sub : {"vtk", "snapshots"}) {
+  for (const char* sub : {"vtk", "snapshots", "xdmf"}) {
     std::error_code ec;
     fs::create_directories(out_ / sub, ec);
     if (ec)
@@ -334,7 +343,7 @@ void Simulation<D>::write_frame() {
 
 template <int D>
 void Simulation<D>::write_snapshot(const std::string& file) {
-  save((out_ / "snapshots" / file).string());
+  save(out_ / "snapshots" / file, out_ / "xdmf" / fs::path(file).replace_extension(".xmf"));
 }
 
 template <int D>

@@ -56,7 +56,8 @@ class Simulation {
   RunResult run();
   RunResult result() const;
 
-  // Write the current state as a snapshot at `path` (atomically), with its XDMF sidecar.
+  // Write the current state as a snapshot at `path` (atomically), with its XDMF sidecar
+  // beside it (`path` with .xmf). The run's own snapshots keep theirs in OUT/xdmf/.
   void save(const std::string& path) const;
 
   // Between steps: the walls `name` names (a wall, or a box's six) given a translation
@@ -77,6 +78,7 @@ class Simulation {
   const Solver& solver() const { return *solver_; }
 
  private:
+  void save(const std::filesystem::path& path, const std::filesystem::path& sidecar) const;
   void setup();
   std::vector<std::size_t> named_walls(const std::string& name);
   void check_changes(const std::string& snapshot_text);
