@@ -149,7 +149,7 @@ TEST(OutputFolder, AResumeTidiesItsFolder) {
   EXPECT_EQ(resumed.state_hash, full.state_hash);
   EXPECT_TRUE(fs::exists(snap));
   EXPECT_TRUE(fs::exists(dir / "out" / "xdmf" / "step_0000000500.xmf"));  // the resumed one's
-  EXPECT_TRUE(fs::exists(snaps / "step_0000001000.h5"));   // written again by the resume
+  EXPECT_TRUE(fs::exists(snaps / "step_0000001000.h5"));  // written again by the resume
   const std::string csv = read(dir / "out" / "series.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 16) << csv;  // header, steps 0..1500
   fs::remove_all(dir);
