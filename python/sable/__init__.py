@@ -12,6 +12,7 @@ code as the `sable` command: a run from Python gives the CLI's bits. Tutorial: d
 import csv
 import json
 import os
+import re
 import tempfile
 
 import numpy as np
@@ -29,6 +30,28 @@ from ._sable import (  # noqa: F401
 
 __all__ = ["InputError", "IoError", "Scenario", "Simulation", "SimulationError",
            "__version__", "analyze", "load_snapshot"]
+
+
+_PLACE = re.compile(r"^(?P<path>[^\n]+?):(?P<line>\d+):(?P<column>\d+): (?P<rest>.*)", re.S)
+_KEY = re.compile(r"^(?:unknown key |missing required key )?(?P<key>[^\s=:;]+)")
+
+
+def _place(error):
+    """(path, line, column, key) of an InputError's message 'PATH:LINE:COL: KEY ...'; the
+    parts a message has not got are None (a file that cannot be read: the path alone)."""
+    text = str(error)
+    m = _PLACE.match(text)
+    if m is None:
+        head = text.split(": ", 1)[0]
+        return (head if ": " in text else None), None, None, None
+    key = _KEY.match(m["rest"])
+    return m["path"], int(m["line"]), int(m["column"]), key["key"] if key else None
+
+
+InputError.path = property(lambda self: _place(self)[0], doc="the file the error is in")
+InputError.line = property(lambda self: _place(self)[1], doc="its line (1-based), or None")
+InputError.column = property(lambda self: _place(self)[2], doc="its column, or None")
+InputError.key = property(lambda self: _place(self)[3], doc="the key (a.b.c), or None")
 
 
 def _resume(path, scenario=None, **options):

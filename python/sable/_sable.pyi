@@ -8,6 +8,14 @@ __version__: str
 
 class InputError(ValueError):
     """A scenario, snapshot or argument that cannot be used; says where."""
+    @property
+    def path(self) -> str | None: ...
+    @property
+    def line(self) -> int | None: ...
+    @property
+    def column(self) -> int | None: ...
+    @property
+    def key(self) -> str | None: ...
 
 class SimulationError(RuntimeError):
     """The computation failed (a non-finite or runaway grain)."""

@@ -85,9 +85,16 @@ class Module(unittest.TestCase):
         self.assertIn("bad.toml:3", str(e.exception))
         self.assertIn("solver", str(e.exception))
         self.assertIsInstance(e.exception, ValueError)
+        x = e.exception
+        self.assertEqual((x.path, x.line, x.column, x.key), ("bad.toml", 3, 10, "simulation.solver"))
+        with self.assertRaises(sable.InputError) as e:
+            sable.Scenario.from_string("[simulation]\ndimension = 3\nfoo = 1\n", path="k.toml")
+        self.assertEqual((e.exception.line, e.exception.key), (3, "simulation.foo"))
         with self.assertRaises(sable.InputError) as e:
             sable.Scenario.load(os.path.join(WORK, "missing.toml"))
         self.assertIn("missing.toml", str(e.exception))
+        self.assertEqual(e.exception.path, os.path.join(WORK, "missing.toml"))
+        self.assertIsNone(e.exception.line)
         sc = sable.Scenario.load(self.toml)
         self.assertEqual((sc.dimension, sc.solver, sc.stages), (3, "dem", ["fall", "push"]))
 
