@@ -396,23 +396,9 @@ py::dict snapshot_dict(const std::string& path) {
   return out;
 }
 
-}  // namespace
+using SimClass = py::class_<PySimulation>;
 
-PYBIND11_MODULE(_sable, m) {
-  m.doc() = R"(Sable's engine: scenarios, simulations, snapshots (docs/python.md).
-
-Arrays of grains (Simulation.grains()) are read-only views into the simulation's own
-arrays: no copy, and they follow the simulation as it steps (np.array(a) keeps a value).
-Rows are slots: the slot sort may permute them between steps; follow grains by their ids.
-Contacts and walls come as new arrays.)";
-  m.attr("__version__") = SABLE_VERSION;
-  auto& input_error = py::register_exception<sable::InputError>(m, "InputError", PyExc_ValueError);
-  auto& simulation_error =
-      py::register_exception<sable::SimulationError>(m, "SimulationError", PyExc_RuntimeError);
-  py::register_exception<sable::IoError>(m, "IoError", PyExc_OSError);
-  simulation_error.attr("__doc__") = "The computation failed (a non-finite or runaway grain).";
-  input_error.attr("__doc__") = "A scenario, snapshot or argument that cannot be used; says where.";
-
+void bind_scenario(py::module_& m) {
   py::class_<PyScenario>(m, "Scenario", "A scenario file, parsed and checked.")
       .def_static(
           "load",
@@ -445,15 +431,17 @@ Contacts and walls come as new arrays.)";
         for (const auto& st : s.cfg->stages) names.push_back(st.name);
         return names;
       });
+}
 
-  py::class_<PySimulation>(m, "Simulation", "A scenario being run, stepped from Python.")
-      .def(py::init<const PyScenario&, const std::string&, int, bool, bool, bool,
-                    const std::string&, bool>(),
-           py::arg("scenario"), py::kw_only(), py::arg("out_dir") = "", py::arg("threads") = 0,
-           py::arg("outputs") = true, py::arg("overwrite") = false, py::arg("quiet") = true,
-           py::arg("resume") = "", py::arg("accept_changes") = false,
-           "Build the model. out_dir overrides [output].dir; outputs=False writes no file; "
-           "resume: a snapshot to continue from (as `sable run --resume`).")
+// Building, stepping and saving a simulation.
+void bind_stepping(SimClass& c) {
+  c.def(py::init<const PyScenario&, const std::string&, int, bool, bool, bool, const std::string&,
+                 bool>(),
+        py::arg("scenario"), py::kw_only(), py::arg("out_dir") = "", py::arg("threads") = 0,
+        py::arg("outputs") = true, py::arg("overwrite") = false, py::arg("quiet") = true,
+        py::arg("resume") = "", py::arg("accept_changes") = false,
+        "Build the model. out_dir overrides [output].dir; outputs=False writes no file; "
+        "resume: a snapshot to continue from (as `sable run --resume`).")
       .def(
           "step",
           [](PySimulation& s, std::int64_t n) {
@@ -496,21 +484,25 @@ Contacts and walls come as new arrays.)";
           [](PySimulation& s, const std::string& path) {
             s.with([&](auto& sim) { sim.save(path); });
           },
-          py::arg("path"), "Write a snapshot of the current state (and its .xmf sidecar).")
-      .def(
-          "grains",
-          [](py::object self) {
-            auto& s = self.cast<PySimulation&>();
-            py::dict out;
-            s.with([&](auto& sim) {
-              sim.start();
-              grain_views(out, sim.world().particles, s.dimension(), self);
-              out["ids"] = id_view(sim.world().particles.id, self);
-            });
-            return out;
-          },
-          "positions, velocities, angular_velocities, forces, torques, radii, masses and ids "
-          "(the stable ids' indices, uint32): read-only views of the live arrays.")
+          py::arg("path"), "Write a snapshot of the current state (and its .xmf sidecar).");
+}
+
+// The grains (views), contacts and walls (new arrays).
+void bind_arrays(SimClass& c) {
+  c.def(
+       "grains",
+       [](py::object self) {
+         auto& s = self.cast<PySimulation&>();
+         py::dict out;
+         s.with([&](auto& sim) {
+           sim.start();
+           grain_views(out, sim.world().particles, s.dimension(), self);
+           out["ids"] = id_view(sim.world().particles.id, self);
+         });
+         return out;
+       },
+       "positions, velocities, angular_velocities, forces, torques, radii, masses and ids "
+       "(the stable ids' indices, uint32): read-only views of the live arrays.")
       .def(
           "contacts",
           [](PySimulation& s) {
@@ -523,18 +515,22 @@ Contacts and walls come as new arrays.)";
           "walls",
           [](PySimulation& s) { return s.with([](auto& sim) { return walls_of(sim.world()); }); },
           "The walls: names, point, orientation (3D: quaternion w, x, y, z; 2D: angle), "
-          "velocity, force, spin, torque (new arrays).")
-      .def(
-          "set_wall_velocity",
-          [](PySimulation& s, const std::string& name, const std::vector<double>& v) {
-            s.with([&](auto& sim) {
-              constexpr int D = DimOf<std::remove_cvref_t<decltype(sim)>>::value;
-              sim.set_wall_velocity(name, vec_of<D>(v, "velocity"));
-            });
-          },
-          py::arg("name"), py::arg("velocity"),
-          "Move the walls `name` names (a wall, or a box's six) at this velocity (m/s), for the "
-          "rest of the current stage.")
+          "velocity, force, spin, torque (new arrays).");
+}
+
+// Walls driven between steps.
+void bind_wall_control(SimClass& c) {
+  c.def(
+       "set_wall_velocity",
+       [](PySimulation& s, const std::string& name, const std::vector<double>& v) {
+         s.with([&](auto& sim) {
+           constexpr int D = DimOf<std::remove_cvref_t<decltype(sim)>>::value;
+           sim.set_wall_velocity(name, vec_of<D>(v, "velocity"));
+         });
+       },
+       py::arg("name"), py::arg("velocity"),
+       "Move the walls `name` names (a wall, or a box's six) at this velocity (m/s), for the "
+       "rest of the current stage.")
       .def(
           "set_wall_rotation",
           [](PySimulation& s, const std::string& name, const std::vector<double>& point,
@@ -555,8 +551,12 @@ Contacts and walls come as new arrays.)";
           py::arg("name"), py::arg("stress"), py::arg("max_velocity") = 0.0,
           "Drive the walls `name` names to this normal stress (Pa) for the rest of the current "
           "stage, with the stage's servo settings; max_velocity (m/s) > 0 replaces its "
-          "servo_max_velocity (a stage without stress targets has none: then it is needed).")
-      .def_property_readonly("dimension", &PySimulation::dimension)
+          "servo_max_velocity (a stage without stress targets has none: then it is needed).");
+}
+
+// Where the run is, as properties.
+void bind_state(SimClass& c) {
+  c.def_property_readonly("dimension", &PySimulation::dimension)
       .def_property_readonly(
           "steps",
           [](PySimulation& s) { return s.with([](auto& sim) { return sim.world().step; }); })
@@ -584,6 +584,32 @@ Contacts and walls come as new arrays.)";
           return sable::kinetic_energy(sim.world());
         });
       });
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_sable, m) {
+  m.doc() = R"(Sable's engine: scenarios, simulations, snapshots (docs/python.md).
+
+Arrays of grains (Simulation.grains()) are read-only views into the simulation's own
+arrays: no copy, and they follow the simulation as it steps (np.array(a) keeps a value).
+Rows are slots: the slot sort may permute them between steps; follow grains by their ids.
+Contacts and walls come as new arrays.)";
+  m.attr("__version__") = SABLE_VERSION;
+  auto& input_error = py::register_exception<sable::InputError>(m, "InputError", PyExc_ValueError);
+  auto& simulation_error =
+      py::register_exception<sable::SimulationError>(m, "SimulationError", PyExc_RuntimeError);
+  py::register_exception<sable::IoError>(m, "IoError", PyExc_OSError);
+  simulation_error.attr("__doc__") = "The computation failed (a non-finite or runaway grain).";
+  input_error.attr("__doc__") = "A scenario, snapshot or argument that cannot be used; says where.";
+
+  bind_scenario(m);
+
+  SimClass sim(m, "Simulation", "A scenario being run, stepped from Python.");
+  bind_stepping(sim);
+  bind_arrays(sim);
+  bind_wall_control(sim);
+  bind_state(sim);
 
   m.def("_analyze", &analyze, py::arg("snapshots"), py::arg("out_dir"), py::arg("options"),
         "sable analyze; returns the output folder (use sable.analyze()).");
