@@ -25,7 +25,6 @@
 #include "sable/analysis/analyze.hpp"
 #include "sable/core/error.hpp"
 #include "sable/io/snapshot.hpp"
-#include "sable/scenario/build.hpp"
 #include "sable/scenario/config.hpp"
 #include "sable/scenario/simulation.hpp"
 #include "sable/scenario/snapshot_sample.hpp"
@@ -366,25 +365,17 @@ std::string analyze(const std::vector<std::string>& snapshots, const std::string
   return sable::run_analysis(o, sable::snapshot_loaders());
 }
 
-sable::ScenarioConfig stored_scenario(const std::string& path) {
-  const sable::SnapshotInfo info = sable::read_snapshot_info(path);
-  return sable::parse_stored_scenario(info.scenario_text, path, info.scenario_path);
-}
-
 // A snapshot's grains, contacts, walls and header, read without a simulation.
 template <int D>
 py::dict snapshot_dict(const std::string& path) {
   World<D> w;
-  sable::build_model(stored_scenario(path), w);
-  const sable::RunPosition pos = sable::load_snapshot(path, w);
-  py::dict out;
-  const py::object none = py::none();
-  py::dict views;
-  grain_views(views, w.particles, D, none);
-  for (auto item : views) out[item.first] = py::array(item.second.cast<py::array>()).attr("copy")();
-  std::vector<std::uint32_t> ids;
-  for (const auto& id : w.particles.id) ids.push_back(id.index);
-  out["ids"] = copy_of(ids);
+  sable::RunPosition pos;
+  sable::load_world(path, w, &pos);
+  // The simulation's views of the world's arrays, copied: the world ends here.
+  py::dict views, out;
+  grain_views(views, w.particles, D, py::none());
+  views["ids"] = id_view(w.particles.id, py::none());
+  for (auto item : views) out[item.first] = item.second.attr("copy")();
   out["contacts"] = contacts_of(w);
   out["walls"] = walls_of(w);
   out["dimension"] = D;
@@ -419,7 +410,8 @@ void bind_scenario(py::module_& m) {
       .def_static(
           "from_snapshot",
           [](const std::string& path) {
-            return PyScenario{std::make_shared<const sable::ScenarioConfig>(stored_scenario(path))};
+            return PyScenario{
+                std::make_shared<const sable::ScenarioConfig>(sable::snapshot_scenario(path))};
           },
           py::arg("path"), "The scenario a snapshot was written by (stored inside it).")
       .def_property_readonly("dimension", [](const PyScenario& s) { return s.cfg->sim.dimension; })

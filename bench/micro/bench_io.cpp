@@ -10,10 +10,8 @@
 #include <memory>
 #include <string>
 
-#include "sable/io/snapshot.hpp"
 #include "sable/io/vtk.hpp"
-#include "sable/scenario/build.hpp"
-#include "sable/scenario/config.hpp"
+#include "sable/scenario/snapshot_sample.hpp"
 
 namespace {
 
@@ -24,12 +22,8 @@ const sable::World<3>* bench_world() {
   static const std::unique_ptr<sable::World<3>> world = [] {
     const char* path = std::getenv("SABLE_BENCH_SNAPSHOT");
     if (path == nullptr) return std::unique_ptr<sable::World<3>>();
-    const sable::SnapshotInfo info = sable::read_snapshot_info(path);
-    const sable::ScenarioConfig cfg =
-        sable::parse_stored_scenario(info.scenario_text, path, info.scenario_path);
     auto w = std::make_unique<sable::World<3>>();
-    sable::build_model(cfg, *w);
-    sable::load_snapshot(path, *w);
+    sable::load_world(path, *w);
     return w;
   }();
   return world.get();

@@ -1,7 +1,5 @@
 #include "sable/scenario/runner.hpp"
 
-#include "sable/scenario/simulation.hpp"
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <omp.h>
@@ -22,6 +20,7 @@
 #include "sable/scenario/output_folder.hpp"
 #include "sable/scenario/progress.hpp"
 #include "sable/scenario/resume_changes.hpp"
+#include "sable/scenario/simulation.hpp"
 #include "sable/world/liquid.hpp"
 
 namespace sable {

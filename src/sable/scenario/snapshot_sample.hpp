@@ -7,8 +7,22 @@
 #include <string>
 
 #include "sable/analysis/sample.hpp"
+#include "sable/io/snapshot.hpp"
+#include "sable/scenario/config.hpp"
+#include "sable/world/world.hpp"
 
 namespace sable {
+
+// The scenario stored in snapshot `path`, parsed; InputError naming the file if it does not
+// parse.
+ScenarioConfig snapshot_scenario(const std::string& path);
+
+// `w` rebuilt from snapshot `path`: the model from its stored scenario, then its state.
+// Throws InputError naming the file if it is missing, damaged, not a Sable snapshot, or of
+// the other dimension than D. Returns the stored scenario; `pos` (if given) gets the run's
+// position.
+template <int D>
+ScenarioConfig load_world(const std::string& path, World<D>& w, RunPosition* pos = nullptr);
 
 // Throws InputError naming the file if it is missing, truncated or not a Sable snapshot, or
 // of the other dimension than D.
