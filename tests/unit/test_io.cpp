@@ -83,20 +83,7 @@ void write_file(const std::string& p, const std::string& text) {
 template <int D>
 void remove_last(sable::ParticleStore<D>& p) {
   p.ids.destroy(p.id.back());
-  p.x.pop_back();
-  p.v.pop_back();
-  p.omega.pop_back();
-  p.f.pop_back();
-  p.t.pop_back();
-  p.radius.pop_back();
-  p.inv_mass.pop_back();
-  p.inv_inertia.pop_back();
-  p.material.pop_back();
-  p.flags.pop_back();
-  p.q.pop_back();
-  p.mass.pop_back();
-  p.id.pop_back();
-  p.shape.pop_back();
+  p.for_each_array([](auto& array) { array.pop_back(); });
 }
 
 constexpr double kR = 0.005;  // grain radius (m)

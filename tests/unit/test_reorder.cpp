@@ -26,17 +26,21 @@ namespace sable {
 namespace {
 
 namespace fs = std::filesystem;
-using Keys = std::vector<std::pair<std::uint64_t, std::uint32_t>>;
+using Keys = std::vector<CellKey>;
 
 // The slots' cell order (order[new] = old) of points `x` in the grid of cells of edge `cell`
-// over [lo, hi].
+// over [lo, hi]; the grain in slot s has id index id_index[s] (default: s).
 template <int D>
 std::vector<std::uint32_t> order_of(const std::vector<typename Space<D>::Vec>& x,
                                     const typename Space<D>::Vec& lo,
-                                    const typename Space<D>::Vec& hi, double cell) {
+                                    const typename Space<D>::Vec& hi, double cell,
+                                    std::vector<std::uint32_t> id_index = {}) {
+  std::vector<ParticleId> id(x.size());
+  for (std::size_t s = 0; s < x.size(); ++s)
+    id[s].index = id_index.empty() ? static_cast<std::uint32_t>(s) : id_index[s];
   std::vector<std::uint32_t> order;
   Keys scratch;
-  cell_order<D>(x, lo, hi, cell, order, scratch);
+  cell_order<D>(x, id, lo, hi, cell, order, scratch);
   return order;
 }
 
@@ -44,8 +48,8 @@ std::vector<std::uint32_t> order_of(const std::vector<typename Space<D>::Vec>& x
 // binary) put in slots in a scrambled order. z has the most cells, so it varies slowest, then
 // y, then x: the order visits cell (cx, cy, cz) at position cx + 2 cy + 6 cz, exactly. 2D: a
 // 5 x 3 grid, x the longer: position cy + 3 cx. Equal extents: the higher axis is the slower.
-// Ties: grains of one cell keep their slot order, whatever their positions inside it; grains
-// outside the grid count in its nearest cell.
+// Ties: grains of one cell go by id, whatever their slots and their positions inside it;
+// grains outside the grid count in its nearest cell.
 TEST(CellOrder, SortsByCellRowByRowTheLongestAxisSlowest) {
   const Eigen::Vector3d lo(-1.0, -2.0, 0.5);
   const double cell = 0.25;
@@ -85,6 +89,12 @@ TEST(CellOrder, SortsByCellRowByRowTheLongestAxisSlowest) {
                                           {0.1, 0.1, 0.1}, {7.0, 0.5, 0.5}, {-3.0, 0.5, 0.5}};
   const std::vector<std::uint32_t> expect{1, 3, 5, 0, 2, 4};
   EXPECT_EQ(order_of<3>(ties, Eigen::Vector3d::Zero(), Eigen::Vector3d(2, 1, 1), 1.0), expect);
+  // The same grains with their ids in reverse slot order: each cell's grains by id, not by
+  // slot (so that a process holding some of the grains, in other slots, orders them alike).
+  const std::vector<std::uint32_t> by_id{5, 3, 1, 4, 2, 0};
+  EXPECT_EQ(
+      order_of<3>(ties, Eigen::Vector3d::Zero(), Eigen::Vector3d(2, 1, 1), 1.0, {5, 4, 3, 2, 1, 0}),
+      by_id);
 }
 
 // A fixed LCG, numbers in [-0.5, 0.5): the same draws in every run.
@@ -420,8 +430,8 @@ TEST(ReorderDefault, TheFirstBuildSortsALargeShuffledBedOnly) {
     std::vector<std::uint32_t> expected;
     Keys scratch;
     const double cell = 2.0 * 0.2e-3 + w.neighbors.skin;  // 2 R_max + skin
-    cell_order<3>(w.particles.x, w.neighbors.domain_lo, w.neighbors.domain_hi, cell, expected,
-                  scratch);
+    cell_order<3>(w.particles.x, w.particles.id, w.neighbors.domain_lo, w.neighbors.domain_hi, cell,
+                  expected, scratch);
     DemSolver<3> solver(w);
     solver.initialize();
     if (n >= kAutoReorderMinGrains) {

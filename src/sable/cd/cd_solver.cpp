@@ -516,7 +516,7 @@ double CdSolver<D>::wall_speed(std::uint32_t w, const Vec& x, double radius) con
 // Forces = impulses / h, written where DEM writes its forces, so outputs are shared (a mesh's
 // force per element among them: world/element_forces.hpp). Each wall's force and its torque
 // about its pivot (the force -f at the contact point x_i + arm_i, x_i - R_i n, and the
-// reaction to each rolling couple), as the DEM's total_wall_forces().
+// reaction to each rolling couple), summed exactly as the DEM's total_wall_forces() sums them.
 template <int D>
 void CdSolver<D>::store_impulses() {
   using S = Space<D>;
@@ -526,10 +526,7 @@ void CdSolver<D>::store_impulses() {
     p.f[k].setZero();
     p.t[k] = S::zero_rot();
   }
-  for (auto& wall : world_.walls) {
-    wall.force.setZero();
-    wall.torque = S::zero_rot();
-  }
+  wall_totals_.reset(world_.walls.size());
   diag_.touching = 0;
   diag_.max_overlap_ratio = 0.0;
   for (std::size_t a = 0; a < c_.size(); ++a) {
@@ -539,10 +536,9 @@ void CdSolver<D>::store_impulses() {
     p.f[i] += f;
     p.t[i] += S::moment(c_.arm_i[a], f);
     if (c_.wall[a]) {
-      Wall<D>& wall = world_.walls[j];
       nl.wall_pairs.force[c_.source[a]] = f;
-      wall.force -= f;
-      wall.torque -= S::moment(Vec(p.x[i] + c_.arm_i[a] - wall.pivot), f);
+      wall_totals_.add_force(j, -f);
+      wall_totals_.add_torque(j, -S::moment(Vec(p.x[i] + c_.arm_i[a] - world_.walls[j].pivot), f));
     } else {
       nl.pairs.force[c_.source[a]] = f;
       p.f[j] -= f;
@@ -553,7 +549,7 @@ void CdSolver<D>::store_impulses() {
       p.t[i] += couple;
       if (c_.wall[a]) {
         nl.wall_pairs.roll[c_.source[a]] = couple;
-        world_.walls[j].torque -= couple;
+        wall_totals_.add_torque(j, -couple);
       } else {
         nl.pairs.roll[c_.source[a]] = couple;
         p.t[j] -= couple;
@@ -561,6 +557,10 @@ void CdSolver<D>::store_impulses() {
     }
     const double r_min = c_.wall[a] ? p.radius[i] : std::min(p.radius[i], p.radius[j]);
     diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, -c_.gap[a] / r_min);
+  }
+  for (std::size_t w = 0; w < world_.walls.size(); ++w) {
+    world_.walls[w].force = wall_totals_.force(w);
+    world_.walls[w].torque = wall_totals_.torque(w);
   }
 }
 

@@ -27,6 +27,7 @@
 #include "sable/cd/nlgs.hpp"
 #include "sable/world/reorder.hpp"
 #include "sable/world/solver.hpp"
+#include "sable/world/wall_totals.hpp"
 #include "sable/world/world.hpp"
 
 namespace sable {
@@ -134,6 +135,7 @@ class CdSolver final : public Solver {
   std::vector<WallFeature<D>> features_;  // and per wall entry
   int newton_iterations_ = 0;             // the fallback's steps in the last step (0: not used)
   GrainReorder<D> reorder_;
+  WallTotals<D> wall_totals_;  // store_impulses()' exact sums
 };
 
 }  // namespace sable

@@ -49,6 +49,12 @@ struct ParticleStore {
   // --- cold
   std::vector<ParticleId> id;
   std::vector<ShapeKind> shape;
+  // The grain's place in the order of the slots: its cell at the last spatial reorder
+  // (world/reorder.hpp; kUnsortedKey before the first), then its id's index. The slots always
+  // follow (order_key, id.index); a process holding some of the grains (MPI) puts each one it
+  // receives where this key says, so that every grain meets its partners in the same order
+  // however the grains are split.
+  std::vector<std::uint64_t> order_key;
   IdRegistry ids;
 
   std::size_t size() const { return x.size(); }
@@ -71,8 +77,10 @@ struct ParticleStore {
     visit(mass);
     visit(id);
     visit(shape);
+    visit(order_key);
   }
-  static constexpr std::size_t kArrays = 14;  // how many for_each_array() visits
+  static constexpr std::size_t kArrays = 15;  // how many for_each_array() visits
+  static constexpr std::uint64_t kUnsortedKey = ~std::uint64_t{0};  // order_key before a sort
   bool fixed(std::size_t i) const { return (flags[i] & kFixed) != 0; }
 
   // Append a round grain. `thickness` is the out-of-plane depth of a 2D run (mass per
@@ -94,6 +102,9 @@ struct ParticleStore {
     flags.push_back(is_fixed ? kFixed : 0);
     q.push_back(S::identity());
     shape.push_back(ShapeKind::kRound);
+    // Grains are added in id order (a fresh registry gives index = slot), after any grain
+    // already sorted: a key above every cell (reorder.cpp sets it at the next sort).
+    order_key.push_back(kUnsortedKey);
     id.push_back(ids.create(slot));
     return id.back();
   }

@@ -12,6 +12,7 @@
 #include "sable/dem/near_list.hpp"
 #include "sable/world/reorder.hpp"
 #include "sable/world/solver.hpp"
+#include "sable/world/wall_totals.hpp"
 #include "sable/world/world.hpp"
 
 namespace sable {
@@ -157,6 +158,7 @@ class DemSolver final : public Solver {
   // hold zeros.
   std::vector<typename Space<D>::Rot> pair_moment_, wall_moment_;
   std::vector<double> pair_delta_, wall_delta_;  // 0 apart, > 0 overlap, -1 unknown
+  WallTotals<D> wall_totals_;  // total_wall_forces()' exact sums
   // Rolling resistance only: each contact's couple on its first grain (read by the gather
   // like n x F; apart entries hold zeros), and per grain 1 / (I + m R^2).
   std::vector<typename Space<D>::Rot> pair_roll_, wall_roll_;

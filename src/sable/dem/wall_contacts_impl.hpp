@@ -268,7 +268,8 @@ void DemSolver<D, Laws>::wall_contact(std::size_t k, const Wall<D>& wall, const 
 }
 
 // Stage total_wall_forces (printed "closing"): each wall's total force and torque about its
-// pivot, from its contacts' forces in list order, once every contact's force is final (a
+// pivot, its contacts' forces summed exactly (world/wall_totals.hpp: the same bits in any
+// order, on any number of threads or processes), once every contact's force is final (a
 // mesh's force per element is derived from them when written: world/element_forces.hpp).
 // Contact point x_c = x_i - (R_i - delta/2) n, so the torque of -F there is
 // -(x_i - pivot) x F + (R_i - delta/2) n x F; with rolling resistance the wall also takes
@@ -279,23 +280,25 @@ void DemSolver<D, Laws>::total_wall_forces() {
   const auto& wl = world_.neighbors.wall_pairs;
   const auto& p = world_.particles;
   const bool rolling = with_rolling();
-  for (auto& wall : world_.walls) {
-    wall.force.setZero();
-    wall.torque = S::zero_rot();
-  }
+  wall_totals_.reset(world_.walls.size());
   const EntryWalk walk = entry_walk();
   const auto n = static_cast<std::uint32_t>(wl.size());
   for (std::uint32_t k = walk.first(0); k < n; k = walk.next(k)) {
     // An entry apart holds no force (forget_if_ended clears it as its overlap turns 0).
     if (wall_delta_[k] == 0.0) continue;
-    Wall<D>& wall = world_.walls[wl.wall[k]];
+    const std::size_t w = wl.wall[k];
     const auto& f = wl.force[k];
-    wall.force -= f;
+    wall_totals_.add_force(w, -f);
     if (wall_delta_[k] < 0.0) continue;
     const std::uint32_t i = wl.i[k];
-    wall.torque +=
-        (p.radius[i] - 0.5 * wall_delta_[k]) * wall_moment_[k] - S::moment(p.x[i] - wall.pivot, f);
-    if (rolling) wall.torque -= wall_roll_[k];  // the reaction to the grain's rolling couple
+    wall_totals_.add_torque(w, (p.radius[i] - 0.5 * wall_delta_[k]) * wall_moment_[k] -
+                                   S::moment(p.x[i] - world_.walls[w].pivot, f));
+    // The reaction to the grain's rolling couple.
+    if (rolling) wall_totals_.add_torque(w, -wall_roll_[k]);
+  }
+  for (std::size_t w = 0; w < world_.walls.size(); ++w) {
+    world_.walls[w].force = wall_totals_.force(w);
+    world_.walls[w].torque = wall_totals_.torque(w);
   }
 }
 

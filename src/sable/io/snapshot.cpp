@@ -124,6 +124,7 @@ void write_particles(h5::File& f, const ParticleStore<D>& p) {
   }
   f.write("/particles/shape", shape);
   f.write("/particles/id", id, 2);
+  f.write("/particles/order_key", p.order_key);
   f.write("/particles/ids/slots", p.ids.slots());
   f.write("/particles/ids/generations", p.ids.generations());
   f.write("/particles/ids/free_list", p.ids.free_list());
@@ -283,6 +284,22 @@ void read_ids(const h5::File& f, ParticleStore<D>& p) {
   }
   const auto id = f.read<std::uint32_t>("/particles/id", 2, n, why);
   for (std::size_t k = 0; k < p.size(); ++k) p.id.push_back({id[2 * k], id[2 * k + 1]});
+  if (f.exists("/particles/order_key")) {
+    p.order_key = f.read<std::uint64_t>("/particles/order_key", 0, n, why);
+  } else {  // a snapshot from before the key: the slots' order is the grains' order
+    p.order_key.resize(p.size());
+    for (std::size_t k = 0; k < p.size(); ++k) p.order_key[k] = k;
+  }
+  // The slots follow (order_key, id index) (core/particles.hpp): a process that receives some
+  // of these grains orders them by it.
+  for (std::size_t k = 1; k < p.size(); ++k) {
+    if (std::pair{p.order_key[k - 1], p.id[k - 1].index} >=
+        std::pair{p.order_key[k], p.id[k].index})
+      f.fail(
+          fmt::format("rows {} and {} of '/particles/order_key' and '/particles/id' are out of "
+                      "order; expected the rows sorted by (order_key, id index)",
+                      k - 1, k));
+  }
   auto slots = f.read<std::uint32_t>("/particles/ids/slots", 0);
   auto gens = f.read<std::uint32_t>("/particles/ids/generations", 0, slots.size(),
                                     "one per id index, as '/particles/ids/slots'");

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "sable/core/error.hpp"
+#include "sable/core/exact_sum.hpp"
 
 namespace sable {
 
@@ -78,15 +79,16 @@ std::vector<WallBody> wall_bodies(const World<D>& w, const std::vector<ServoTarg
                                   const ServoSettings& s) {
   constexpr double kStepsPerDiameter = 10.0;  // see the mass rule in servo.hpp
   const auto& p = w.particles;
-  double grains = 0.0, diameters = 0.0;
+  ExactSum grain_sum, diameters;  // exact: the same bits for any order of the grains
   std::size_t movable = 0;
   for (std::size_t k = 0; k < p.size(); ++k) {
     if (p.fixed(k)) continue;
-    grains += p.mass[k];
-    diameters += 2.0 * p.radius[k];
+    grain_sum.add(p.mass[k]);
+    diameters.add(2.0 * p.radius[k]);
     ++movable;
   }
-  const double d = movable > 0 ? diameters / static_cast<double>(movable) : 0.0;
+  const double grains = grain_sum.value();
+  const double d = movable > 0 ? diameters.value() / static_cast<double>(movable) : 0.0;
   std::vector<WallBody> out;
   out.reserve(targets.size());
   for (const auto& t : targets) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "sable/core/error.hpp"
+#include "sable/core/exact_sum.hpp"
 
 namespace sable {
 namespace {
@@ -70,11 +71,11 @@ WettingResult wet_grains(World<D>& w, double water_content, double liquid_densit
     throw InputError("wetting the grains needs contact.cohesion = \"capillary\"");
   auto& p = w.particles;
   auto& nl = w.neighbors;
-  double mass = 0.0;
+  ExactSum mass;  // exact: the same bits for any order of the grains
   for (std::size_t k = 0; k < p.size(); ++k)
-    if (!p.fixed(k)) mass += p.mass[k];
+    if (!p.fixed(k)) mass.add(p.mass[k]);
   WettingResult r;
-  r.volume = water_content * mass / liquid_density;
+  r.volume = water_content * mass.value() / liquid_density;
   const double d_max = Capillary::reduced_diameter(max_radius(w), max_radius(w));
   nl.bridges = true;
   std::vector<double> gap, share, key;

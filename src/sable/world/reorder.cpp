@@ -37,9 +37,9 @@ void apply_order(std::vector<T>& a, const std::vector<std::uint32_t>& order,
 }  // namespace
 
 template <int D>
-void cell_order(const std::vector<typename Space<D>::Vec>& x, const typename Space<D>::Vec& lo,
-                const typename Space<D>::Vec& hi, double cell, std::vector<std::uint32_t>& order,
-                std::vector<std::pair<std::uint64_t, std::uint32_t>>& scratch) {
+void cell_order(const std::vector<typename Space<D>::Vec>& x, const std::vector<ParticleId>& id,
+                const typename Space<D>::Vec& lo, const typename Space<D>::Vec& hi, double cell,
+                std::vector<std::uint32_t>& order, std::vector<CellKey>& scratch) {
   // The axes from the slowest to the fastest varying: the longest extent first (ties: the
   // higher axis), so that a layer of cells, the span of slots a grain's partners lie in, is as
   // small as it can be (a tall column: horizontal layers).
@@ -62,23 +62,24 @@ void cell_order(const std::vector<typename Space<D>::Vec>& x, const typename Spa
       key = key * static_cast<std::uint64_t>(ncell[d]) +
             static_cast<std::uint64_t>(std::isnan(c) ? 0.0 : c);
     }
-    scratch[k] = {key, static_cast<std::uint32_t>(k)};
+    scratch[k] = {key, id[k].index, static_cast<std::uint32_t>(k)};
   }
-  std::sort(scratch.begin(), scratch.end());  // (key, slot): ties keep their slot order
+  std::sort(scratch.begin(), scratch.end());  // (cell, id): ids are unique, a total order
   order.resize(x.size());
-  for (std::size_t k = 0; k < x.size(); ++k) order[k] = scratch[k].second;
+  for (std::size_t k = 0; k < x.size(); ++k) order[k] = scratch[k].slot;
 }
 
 template <int D>
 bool GrainReorder<D>::apply(World<D>& w) {
   auto& p = w.particles;
   const std::size_t n = p.size();
-  if (n < 2) return false;
+  if (n == 0) return false;
   double rmax = 0.0;
   for (double r : p.radius) rmax = std::max(rmax, r);
   auto& nl = w.neighbors;
-  cell_order<D>(p.x, nl.domain_lo, nl.domain_hi, std::max(2.0 * rmax + nl.skin, 1e-300), order_,
-                keys_);
+  cell_order<D>(p.x, p.id, nl.domain_lo, nl.domain_hi, std::max(2.0 * rmax + nl.skin, 1e-300),
+                order_, keys_);
+  for (const CellKey& k : keys_) p.order_key[k.slot] = k.cell;  // moved with the slots below
   bool identity = true;
   for (std::size_t k = 0; k < n && identity; ++k) identity = order_[k] == k;
   if (identity) return false;
@@ -165,12 +166,12 @@ void GrainReorder<D>::relabel_wall_pairs(WallPairList<D>& wl) {
   apply_order(wl.roll, entry_order_, seen_);
 }
 
-template void cell_order<2>(const std::vector<Space<2>::Vec>&, const Space<2>::Vec&,
-                            const Space<2>::Vec&, double, std::vector<std::uint32_t>&,
-                            std::vector<std::pair<std::uint64_t, std::uint32_t>>&);
-template void cell_order<3>(const std::vector<Space<3>::Vec>&, const Space<3>::Vec&,
-                            const Space<3>::Vec&, double, std::vector<std::uint32_t>&,
-                            std::vector<std::pair<std::uint64_t, std::uint32_t>>&);
+template void cell_order<2>(const std::vector<Space<2>::Vec>&, const std::vector<ParticleId>&,
+                            const Space<2>::Vec&, const Space<2>::Vec&, double,
+                            std::vector<std::uint32_t>&, std::vector<CellKey>&);
+template void cell_order<3>(const std::vector<Space<3>::Vec>&, const std::vector<ParticleId>&,
+                            const Space<3>::Vec&, const Space<3>::Vec&, double,
+                            std::vector<std::uint32_t>&, std::vector<CellKey>&);
 template class GrainReorder<2>;
 template class GrainReorder<3>;
 

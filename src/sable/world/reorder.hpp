@@ -14,8 +14,9 @@
 // slots in the neighbour lists so that each contact keeps its history: a pair whose members
 // swap order gets its history negated (it is stored for its first grain), and both lists are
 // sorted again. ParticleIds keep naming the same grains (IdRegistry::move). The new order
-// depends only on the positions, so results stay the same for any number of threads, and a
-// run resumed from a snapshot reorders at the same builds (the build count is saved).
+// depends only on the positions and the ids, so results stay the same for any number of
+// threads, and a run resumed from a snapshot reorders at the same builds (the build count is
+// saved).
 #pragma once
 
 #include <cstddef>
@@ -52,14 +53,26 @@ inline bool reorder_due(std::uint64_t every, std::uint64_t build, std::size_t n)
   return every > 0 && build % every == 0;
 }
 
+// A grain's place in cell order: its cell, then its id's index.
+struct CellKey {
+  std::uint64_t cell;
+  std::uint32_t id;
+  std::uint32_t slot;
+  friend bool operator<(const CellKey& a, const CellKey& b) {
+    return a.cell != b.cell ? a.cell < b.cell : a.id < b.id;
+  }
+};
+
 // Grain slots sorted by the cell of edge `cell` of the grid over [lo, hi] that holds them,
 // row by row, the axis of the most cells varying slowest (ties: the higher axis), the fewest
-// fastest; within a cell, by slot: order[new] = old. Grains outside the grid count in its
-// nearest cell.
+// fastest; within a cell, by id (`id[slot]`, its index): order[new] = old. Grains outside the
+// grid count in its nearest cell. The order is a function of each grain's position and id
+// alone, not of the slots they held: any subset of the grains (a process's share of them)
+// sorts into the same relative order as the whole.
 template <int D>
-void cell_order(const std::vector<typename Space<D>::Vec>& x, const typename Space<D>::Vec& lo,
-                const typename Space<D>::Vec& hi, double cell, std::vector<std::uint32_t>& order,
-                std::vector<std::pair<std::uint64_t, std::uint32_t>>& scratch);
+void cell_order(const std::vector<typename Space<D>::Vec>& x, const std::vector<ParticleId>& id,
+                const typename Space<D>::Vec& lo, const typename Space<D>::Vec& hi, double cell,
+                std::vector<std::uint32_t>& order, std::vector<CellKey>& scratch);
 
 // Reorders a World's grains; owns its scratch so that a reorder inside the step does not
 // allocate once sizes have settled.
@@ -67,9 +80,9 @@ template <int D>
 class GrainReorder {
  public:
   // Moves the grains into cell order (cell_order: the neighbour cells, edge 2 R_max + skin,
-  // over the list's domain) and renames their slots everywhere the World holds them. Returns false,
-  // changing nothing, when they already are in that order. Call it just before
-  // NeighborList::build().
+  // over the list's domain), sets their order_key (the cell) and renames their slots everywhere
+  // the World holds them. Returns false, moving no slot, when they already are in that order. Call
+  // it just before NeighborList::build().
   bool apply(World<D>& w);
   // A neighbour-list build, preceded by apply() when reorder_due() names it (counting builds
   // from the first, by the saved build count, so that a resumed run sorts where the unbroken
@@ -86,7 +99,7 @@ class GrainReorder {
   void relabel_wall_pairs(WallPairList<D>& wl);
   void sort_by_grain(const std::vector<std::uint32_t>& grain, std::size_t n);
   std::vector<std::uint32_t> order_, new_slot_, entry_order_, count_;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keys_;
+  std::vector<CellKey> keys_;
   std::vector<std::uint8_t> seen_;
 };
 

@@ -57,6 +57,7 @@ std::uint64_t state_hash(const World<D>& w) {
   hash_dense(h, p.mass);
   hash_dense(h, p.id);
   hash_dense(h, p.shape);
+  hash_dense(h, p.order_key);
   hash_dense(h, p.ids.slots());
   hash_dense(h, p.ids.generations());
   hash_dense(h, p.ids.free_list());

@@ -10,6 +10,7 @@
 
 #include "sable/collision/neighbor_list.hpp"
 #include "sable/contact/registry.hpp"
+#include "sable/core/exact_sum.hpp"
 #include "sable/core/material.hpp"
 #include "sable/core/particles.hpp"
 #include "sable/core/rng.hpp"
@@ -68,18 +69,20 @@ struct World {
 // Translational plus (unless translation_only) rotational kinetic energy (J; per thickness
 // in 2D). Rattlers of a static packing keep spinning (nothing brakes a free rotation), so an
 // equilibrium test may look at translation only.
+// Summed exactly (core/exact_sum.hpp): the same bits in any order of the grains, so for any
+// split of them among threads or processes (a stage's end can hang on this value).
 template <int D>
 double kinetic_energy(const World<D>& w, bool translation_only = false) {
   const auto& p = w.particles;
-  double e = 0.0;
+  ExactSum e;
   for (std::size_t k = 0; k < p.size(); ++k) {
     if (p.fixed(k)) continue;
-    e += 0.5 * p.mass[k] * p.v[k].squaredNorm();
+    e.add(0.5 * p.mass[k] * p.v[k].squaredNorm());
     if (translation_only) continue;
-    e += 0.5 * (p.inv_inertia[k] > 0.0 ? 1.0 / p.inv_inertia[k] : 0.0) *
-         Space<D>::rot_norm2(p.omega[k]);
+    e.add(0.5 * (p.inv_inertia[k] > 0.0 ? 1.0 / p.inv_inertia[k] : 0.0) *
+          Space<D>::rot_norm2(p.omega[k]));
   }
-  return e;
+  return e.value();
 }
 
 }  // namespace sable

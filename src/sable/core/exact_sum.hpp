@@ -1,0 +1,154 @@
+// An exact sum of doubles whose result does not depend on the order of the terms.
+//
+// Floating-point addition is not associative: a wall's total force summed over its contacts
+// in list order changes its last bits when the contacts come in another order, as they do
+// when the grains are split among MPI ranks (each rank sums its own, then the ranks' sums are
+// added). ExactSum keeps the sum as an integer multiple of 2^-1074 (the smallest subnormal)
+// in 32-bit limbs (a long accumulator, after Kulisch), so every term is added without
+// rounding and only value() rounds, once: the result is the exact sum correctly rounded to
+// the nearest double (ties to even), whatever the order of add() and merge() calls.
+// (A result in the subnormal range, below 2^-1022, is rounded twice: to 53 bits, then to
+// the subnormal's precision. Forces and energies never come near it.)
+//
+// Cost: add() is a handful of integer operations (no loop); the accumulator is 560 bytes, so
+// it is kept for a few global totals (wall forces and torques, kinetic energy), never per
+// grain. Infinities and NaNs are counted apart: value() returns NaN if a NaN or infinities of
+// both signs were added, else the infinity, as a naive sum would.
+#pragma once
+
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace sable {
+
+class ExactSum {
+ public:
+  void add(double x) {
+    const auto bits = std::bit_cast<std::uint64_t>(x);
+    const auto biased = static_cast<int>((bits >> 52) & 0x7ff);
+    std::uint64_t m = bits & ((std::uint64_t{1} << 52) - 1);
+    if (biased == 0x7ff) {  // infinity or NaN
+      if (m != 0) {
+        nan_ = true;
+      } else {
+        (x > 0 ? pos_inf_ : neg_inf_) = true;
+      }
+      return;
+    }
+    if (biased == 0 && m == 0) return;  // +0 or -0
+    // x = m 2^(p - 1074): subnormals have p = 0 and no hidden bit.
+    int p = 0;
+    if (biased != 0) {
+      m |= std::uint64_t{1} << 52;
+      p = biased - 1;
+    }
+    // m 2^(p mod 32) has at most 85 bits: three 32-bit pieces from limb p / 32 up.
+    const int k = p >> 5;
+    const int shift = p & 31;
+    const std::uint64_t low64 = m << shift;  // its bits 0-63 (the shift may drop bits above)
+    const auto lo = static_cast<std::int64_t>(low64 & 0xffffffffU);
+    const auto mid = static_cast<std::int64_t>(low64 >> 32);
+    const auto hi = static_cast<std::int64_t>(shift > 0 ? m >> (64 - shift) : 0);
+    if (x < 0) {
+      limb_[k] -= lo;
+      limb_[k + 1] -= mid;
+      limb_[k + 2] -= hi;
+    } else {
+      limb_[k] += lo;
+      limb_[k + 1] += mid;
+      limb_[k + 2] += hi;
+    }
+    // Each add moves a limb by less than 2^32: 2^30 of them cannot overflow an int64.
+    if (++pending_ == kMaxPending) carry();
+  }
+
+  // Adds another accumulator's sum (the reduction of partial sums).
+  void merge(const ExactSum& o) {
+    ExactSum b = o;
+    b.carry();
+    carry();
+    for (int i = 0; i < kLimbs; ++i) limb_[i] += b.limb_[i];
+    pending_ = 1;  // the limbs now hold up to twice a carried limb: carry before 2^30 more adds
+    nan_ = nan_ || o.nan_;
+    pos_inf_ = pos_inf_ || o.pos_inf_;
+    neg_inf_ = neg_inf_ || o.neg_inf_;
+  }
+
+  // The exact sum rounded to the nearest double (ties to even); +0 if it is zero.
+  double value() const;
+
+  // The limbs after carrying (every limb but the top one in [0, 2^32)), for tests and for
+  // sending an accumulator between processes; equal sums give equal limbs.
+  static constexpr int kLimbs = 70;
+  std::array<std::int64_t, kLimbs> carried_limbs() const {
+    ExactSum c = *this;
+    c.carry();
+    return c.limb_;
+  }
+
+ private:
+  static constexpr std::uint32_t kMaxPending = std::uint32_t{1} << 30;
+
+  // Moves every limb's excess over 32 bits into the next one (arithmetic shifts: floor
+  // division, so a negative sum ends with a negative top limb and the others in [0, 2^32)).
+  void carry() {
+    for (int i = 0; i + 1 < kLimbs; ++i) {
+      const std::int64_t c = limb_[i] >> 32;
+      limb_[i] -= c * (std::int64_t{1} << 32);
+      limb_[i + 1] += c;
+    }
+    pending_ = 0;
+  }
+
+  // The largest double is below 2^(2045 + 53 - 1074 + 1), so terms reach limb 65; the
+  // limbs above hold the carries of up to 2^64 such terms, with room for the sign.
+  std::array<std::int64_t, kLimbs> limb_{};
+  std::uint32_t pending_ = 0;
+  bool nan_ = false, pos_inf_ = false, neg_inf_ = false;
+};
+
+inline double ExactSum::value() const {
+  if (nan_ || (pos_inf_ && neg_inf_)) return std::numeric_limits<double>::quiet_NaN();
+  if (pos_inf_) return std::numeric_limits<double>::infinity();
+  if (neg_inf_) return -std::numeric_limits<double>::infinity();
+  std::array<std::int64_t, kLimbs> l = carried_limbs();
+  const bool negative = l[kLimbs - 1] < 0;
+  if (negative) {  // the magnitude: negate every limb and carry again
+    for (auto& x : l) x = -x;
+    for (int i = 0; i + 1 < kLimbs; ++i) {
+      const std::int64_t c = l[i] >> 32;
+      l[i] -= c * (std::int64_t{1} << 32);
+      l[i + 1] += c;
+    }
+  }
+  int t = kLimbs - 1;
+  while (t >= 0 && l[t] == 0) --t;
+  if (t < 0) return 0.0;
+  // The top three limbs as a 96-bit window (head: its top 64 bits once its leading bit is
+  // bit 95; the rest, with the limbs below, a sticky bit). limb t < 2^32: the sums of
+  // finite doubles end far below the top limb.
+  auto limb = [&](int i) { return i >= 0 ? static_cast<std::uint64_t>(l[i]) : 0; };
+  const std::uint64_t top = (limb(t) << 32) | limb(t - 1);
+  const std::uint64_t below = limb(t - 2);
+  const int lz = std::countl_zero(top);  // < 32: limb t is not zero
+  std::uint64_t head = top;
+  bool sticky = false;
+  for (int i = 0; i < t - 2; ++i) sticky = sticky || l[i] != 0;
+  if (lz > 0) {
+    head = (top << lz) | (below >> (32 - lz));
+    sticky = sticky || ((below << lz) & 0xffffffffU) != 0;
+  } else {
+    sticky = sticky || below != 0;
+  }
+  // head has its top bit set: the conversion rounds at bit 11, so a sticky bit in bit 0
+  // breaks a false tie and changes nothing else.
+  if (sticky) head |= 1;
+  const int exponent = 32 * (t - 2) + 32 - lz - 1074;
+  const double r = std::ldexp(static_cast<double>(head), exponent);
+  return negative ? -r : r;
+}
+
+}  // namespace sable

@@ -1,0 +1,40 @@
+// The part of the grains a solver steps, seen from the solver: the whole bed in a serial run,
+// or, under MPI (src/sable/mpi/), the grains this process owns plus ghost copies of its
+// neighbours' grains within reach of its box.
+//
+// The rules that keep the bits of a serial run whatever the number of processes:
+// - a process holds its grains, owned and ghosts, in the global order of the slots
+//   (ParticleStore::order_key, then the id): every grain meets its partners in the order the
+//   serial run meets them, and every pair is taken with the same first member;
+// - ghosts carry the owner's position, velocity, spin and orientation after each drift, are
+//   not kicked, drifted or checked (kGhost), and their wall contacts do not count in the
+//   walls' totals;
+// - every decision taken from all the grains (a list rebuild, a stage's end) is taken from
+//   a global maximum or an exact sum (core/exact_sum.hpp), the same on every process.
+// A serial run uses this base class, whose hooks do nothing.
+#pragma once
+
+#include "sable/world/wall_totals.hpp"
+#include "sable/world/world.hpp"
+
+namespace sable {
+
+template <int D>
+class Domain {
+ public:
+  virtual ~Domain() = default;
+  // True when the grains are split among processes (some may be ghosts).
+  virtual bool distributed() const { return false; }
+  // After the drift: each ghost gets its owner's x, v, omega and orientation.
+  virtual void refresh_ghosts(World<D>& /*w*/) {}
+  // The largest of `x` over every process.
+  virtual double max(double x) const { return x; }
+  // Before a neighbour-list build: the grains that left this process's box go to their new
+  // owners (with their contacts' histories), the ghosts are chosen again, and the slots are
+  // put back in the global order.
+  virtual void redistribute(World<D>& /*w*/) {}
+  // Sums the walls' totals over every process (exactly: the same bits on each).
+  virtual void reduce(WallTotals<D>& /*totals*/) const {}
+};
+
+}  // namespace sable

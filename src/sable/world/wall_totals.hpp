@@ -1,0 +1,58 @@
+// Each wall's total force and torque over its contacts, summed exactly (core/exact_sum.hpp):
+// the same bits whatever the order in which the contacts are added, so whatever the thread,
+// the slot order or the process that holds them. The sums are rounded once, when read.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "sable/core/exact_sum.hpp"
+#include "sable/core/space.hpp"
+
+namespace sable {
+
+template <int D>
+class WallTotals {
+ public:
+  using Vec = typename Space<D>::Vec;
+  using Rot = typename Space<D>::Rot;
+  static constexpr int kRot = D == 3 ? 3 : 1;
+
+  void reset(std::size_t walls) { sums_.assign(walls, {}); }
+  std::size_t size() const { return sums_.size(); }
+
+  void add_force(std::size_t wall, const Vec& f) {
+    for (int d = 0; d < D; ++d) sums_[wall][d].add(f[d]);
+  }
+  void add_torque(std::size_t wall, const Rot& t) {
+    if constexpr (D == 3) {
+      for (int d = 0; d < 3; ++d) sums_[wall][D + d].add(t[d]);
+    } else {
+      sums_[wall][D].add(t);
+    }
+  }
+  // Adds another set of totals over the same walls (partial sums of other threads or ranks).
+  void merge(const WallTotals& o) {
+    for (std::size_t w = 0; w < sums_.size(); ++w)
+      for (int c = 0; c < D + kRot; ++c) sums_[w][c].merge(o.sums_[w][c]);
+  }
+
+  Vec force(std::size_t wall) const {
+    Vec f;
+    for (int d = 0; d < D; ++d) f[d] = sums_[wall][d].value();
+    return f;
+  }
+  Rot torque(std::size_t wall) const {
+    if constexpr (D == 3) {
+      return Rot(sums_[wall][3].value(), sums_[wall][4].value(), sums_[wall][5].value());
+    } else {
+      return sums_[wall][D].value();
+    }
+  }
+
+ private:
+  std::vector<std::array<ExactSum, D + kRot>> sums_;
+};
+
+}  // namespace sable
