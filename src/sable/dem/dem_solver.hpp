@@ -158,7 +158,9 @@ class DemSolver final : public Solver {
   // hold zeros.
   std::vector<typename Space<D>::Rot> pair_moment_, wall_moment_;
   std::vector<double> pair_delta_, wall_delta_;  // 0 apart, > 0 overlap, -1 unknown
-  WallTotals<D> wall_totals_;  // total_wall_forces()' exact sums
+  WallTotals<D> wall_totals_;                    // total_wall_forces()' exact sums
+  std::vector<std::uint32_t> by_wall_, by_wall_begin_, by_wall_fill_;  // and its entries by wall
+  std::vector<typename Space<D>::Rot> by_wall_torque_;                 // and their torques
   // Rolling resistance only: each contact's couple on its first grain (read by the gather
   // like n x F; apart entries hold zeros), and per grain 1 / (I + m R^2).
   std::vector<typename Space<D>::Rot> pair_roll_, wall_roll_;

@@ -277,26 +277,63 @@ void DemSolver<D, Laws>::wall_contact(std::size_t k, const Wall<D>& wall, const 
 template <int D, class Laws>
 void DemSolver<D, Laws>::total_wall_forces() {
   using S = Space<D>;
+  using Vec = typename S::Vec;
+  using Rot = typename S::Rot;
   const auto& wl = world_.neighbors.wall_pairs;
   const auto& p = world_.particles;
   const bool rolling = with_rolling();
-  wall_totals_.reset(world_.walls.size());
+  const std::size_t walls = world_.walls.size();
+  // The touching entries by wall (a counting sort; their order within a wall does not matter,
+  // the sums being exact), so that each wall's sums run in registers (ExactRun).
+  by_wall_begin_.assign(walls + 1, 0);
   const EntryWalk walk = entry_walk();
   const auto n = static_cast<std::uint32_t>(wl.size());
-  for (std::uint32_t k = walk.first(0); k < n; k = walk.next(k)) {
-    // An entry apart holds no force (forget_if_ended clears it as its overlap turns 0).
-    if (wall_delta_[k] == 0.0) continue;
-    const std::size_t w = wl.wall[k];
-    const auto& f = wl.force[k];
-    wall_totals_.add_force(w, -f);
-    if (wall_delta_[k] < 0.0) continue;
-    const std::uint32_t i = wl.i[k];
-    wall_totals_.add_torque(w, (p.radius[i] - 0.5 * wall_delta_[k]) * wall_moment_[k] -
-                                   S::moment(p.x[i] - world_.walls[w].pivot, f));
-    // The reaction to the grain's rolling couple.
-    if (rolling) wall_totals_.add_torque(w, -wall_roll_[k]);
+  // An entry apart holds no force (forget_if_ended clears it as its overlap turns 0).
+  for (std::uint32_t k = walk.first(0); k < n; k = walk.next(k))
+    if (wall_delta_[k] != 0.0) ++by_wall_begin_[wl.wall[k] + 1];
+  for (std::size_t w = 0; w < walls; ++w) by_wall_begin_[w + 1] += by_wall_begin_[w];
+  by_wall_.resize(by_wall_begin_[walls]);
+  by_wall_fill_.assign(by_wall_begin_.begin(), by_wall_begin_.end() - 1);
+  for (std::uint32_t k = walk.first(0); k < n; k = walk.next(k))
+    if (wall_delta_[k] != 0.0) by_wall_[by_wall_fill_[wl.wall[k]]++] = k;
+
+  // Each entry's torque about its wall's pivot, then each component of each wall's totals
+  // in a loop of its own: one ExactRun at a time stays in registers.
+  by_wall_torque_.resize(by_wall_.size());
+  for (std::size_t w = 0; w < walls; ++w) {
+    const Vec pivot = world_.walls[w].pivot;
+    for (std::uint32_t e = by_wall_begin_[w]; e < by_wall_begin_[w + 1]; ++e) {
+      const std::uint32_t k = by_wall_[e];
+      const std::uint32_t i = wl.i[k];
+      Rot t = S::zero_rot();
+      if (wall_delta_[k] > 0.0)
+        t = (p.radius[i] - 0.5 * wall_delta_[k]) * wall_moment_[k] -
+            S::moment(p.x[i] - pivot, wl.force[k]);
+      // The reaction to the grain's rolling couple.
+      if (rolling && wall_delta_[k] > 0.0) t -= wall_roll_[k];
+      by_wall_torque_[e] = t;
+    }
   }
-  for (std::size_t w = 0; w < world_.walls.size(); ++w) {
+  wall_totals_.reset(walls);
+  constexpr int kRot = WallTotals<D>::kRot;
+  for (std::size_t w = 0; w < walls; ++w) {
+    const std::uint32_t e0 = by_wall_begin_[w], e1 = by_wall_begin_[w + 1];
+    for (int d = 0; d < D; ++d) {
+      ExactRun run(wall_totals_.component(w, d));
+      for (std::uint32_t e = e0; e < e1; ++e) run.add(-wl.force[by_wall_[e]][d]);
+    }
+    for (int c = 0; c < kRot; ++c) {
+      ExactRun run(wall_totals_.component(w, D + c));
+      for (std::uint32_t e = e0; e < e1; ++e) {
+        if constexpr (D == 3) {
+          run.add(by_wall_torque_[e][c]);
+        } else {
+          run.add(by_wall_torque_[e]);
+        }
+      }
+    }
+  }
+  for (std::size_t w = 0; w < walls; ++w) {
     world_.walls[w].force = wall_totals_.force(w);
     world_.walls[w].torque = wall_totals_.torque(w);
   }

@@ -677,7 +677,7 @@ RunPosition load_snapshot(const std::string& path, World<D>& world, std::string*
   const bool rolling = world.neighbors.rolling, bridges = world.neighbors.bridges;
   world.neighbors.rolling = s.neighbors.rolling;
   world.neighbors.bridges = s.neighbors.bridges;
-  const std::uint64_t h = state_hash(world);
+  const std::uint64_t h = state_hash(world, f.exists("/particles/order_key"));
   world.neighbors.rolling = rolling;
   world.neighbors.bridges = bridges;
   if (h != s.hash) {

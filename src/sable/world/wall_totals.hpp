@@ -38,6 +38,9 @@ class WallTotals {
       for (int c = 0; c < D + kRot; ++c) sums_[w][c].merge(o.sums_[w][c]);
   }
 
+  // Component c of a wall's total: force d = 0 .. D-1, then torque (one component in 2D).
+  ExactSum& component(std::size_t wall, int c) { return sums_[wall][c]; }
+
   Vec force(std::size_t wall) const {
     Vec f;
     for (int d = 0; d < D; ++d) f[d] = sums_[wall][d].value();

@@ -75,12 +75,15 @@ template <int D>
 double kinetic_energy(const World<D>& w, bool translation_only = false) {
   const auto& p = w.particles;
   ExactSum e;
-  for (std::size_t k = 0; k < p.size(); ++k) {
-    if (p.fixed(k)) continue;
-    e.add(0.5 * p.mass[k] * p.v[k].squaredNorm());
-    if (translation_only) continue;
-    e.add(0.5 * (p.inv_inertia[k] > 0.0 ? 1.0 / p.inv_inertia[k] : 0.0) *
-          Space<D>::rot_norm2(p.omega[k]));
+  {
+    ExactRun run(e);
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      if (p.fixed(k)) continue;
+      run.add(0.5 * p.mass[k] * p.v[k].squaredNorm());
+      if (translation_only) continue;
+      run.add(0.5 * (p.inv_inertia[k] > 0.0 ? 1.0 / p.inv_inertia[k] : 0.0) *
+              Space<D>::rot_norm2(p.omega[k]));
+    }
   }
   return e.value();
 }
