@@ -8,7 +8,7 @@ naming the file, the line and the two layers) when a file includes a module of i
 or above, other than its own module. The layers, bottom to top (docs/ARCHITECTURE.md,
 "Layers"):
 
-    core < geometry, generation < collision < contact < world < loading, io
+    core < geometry, generation < collision < contact < world < loading, io, mpi
          < dem, cd, analysis < scenario < apps
 
 so io and analysis read the world, never a solver, and nothing below the scenario knows a
@@ -28,6 +28,7 @@ LAYER = {
     "world": 4,
     "loading": 5,
     "io": 5,
+    "mpi": 5,
     "dem": 6,
     "cd": 6,
     "analysis": 6,

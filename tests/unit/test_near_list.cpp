@@ -80,7 +80,7 @@ template <int D>
 Entries remake(sable::NearList<D>& near, const sable::ParticleStore<D>& p,
                const sable::NeighborList<D>& nl, double dt, bool keep_all) {
   std::vector<int> calls(nl.pairs.size(), 0);
-  near.remake(p, nl, dt, keep_all, [&](std::size_t k) { ++calls[k]; });
+  near.remake(p, nl, dt, keep_all, sable::Domain<D>{}, [&](std::size_t k) { ++calls[k]; });
   Entries dropped;
   for (std::size_t k = 0; k < calls.size(); ++k) {
     EXPECT_LE(calls[k], 1) << "entry " << k << " dropped twice";

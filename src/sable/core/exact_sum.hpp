@@ -96,6 +96,27 @@ class ExactSum {
   // The limbs after carrying (every limb but the top one in [0, 2^32)), for tests and for
   // sending an accumulator between processes; equal sums give equal limbs.
   static constexpr int kLimbs = 70;
+  // The carried limbs, then whether a NaN, +inf and -inf were added (0 or 1): an array whose
+  // element-wise sum over partial sums (an MPI_SUM) unpacks to their total.
+  static constexpr int kPacked = kLimbs + 3;
+  std::array<std::int64_t, kPacked> packed() const {
+    std::array<std::int64_t, kPacked> out{};
+    const auto l = carried_limbs();
+    for (int i = 0; i < kLimbs; ++i) out[i] = l[i];
+    out[kLimbs] = nan_;
+    out[kLimbs + 1] = pos_inf_;
+    out[kLimbs + 2] = neg_inf_;
+    return out;
+  }
+  static ExactSum from_packed(const std::array<std::int64_t, kPacked>& in) {
+    ExactSum s;
+    for (int i = 0; i < kLimbs; ++i) s.limb_[i] = in[i];
+    s.pending_ = 1 << 20;  // up to 2^20 carried sums added: carry long before an overflow
+    s.nan_ = in[kLimbs] != 0;
+    s.pos_inf_ = in[kLimbs + 1] != 0;
+    s.neg_inf_ = in[kLimbs + 2] != 0;
+    return s;
+  }
   std::array<std::int64_t, kLimbs> carried_limbs() const {
     ExactSum c = *this;
     c.carry();

@@ -17,6 +17,9 @@ namespace sable {
 
 enum ParticleFlags : std::uint8_t {
   kFixed = 1u << 0,  // never moves: infinite mass for contacts, skipped by integration
+  // A copy of a grain another process steps (MPI, world/domain.hpp): in contacts like any
+  // grain, but not kicked, drifted or checked here; its state comes from its owner.
+  kGhost = 1u << 1,
 };
 
 // The shape of the grain. Disks (2D) and spheres (3D) now; polyhedra later add an index into a

@@ -12,8 +12,8 @@ namespace sable {
 // half kick and the drift; neighbors: the neighbour and near lists; pair pass: the contact
 // forces and each grain's closing, its wall contacts, sum and second half kick; closing: the
 // walls' total forces), contact dynamics integrate, neighbors, contact build and NLGS solve;
-// a summary lists the phases that took time. Used by every solver: it sits in core, below
-// them.
+// a summary lists the phases that took time. Under MPI the DEM step has a fifth, exchange. Used by
+// every solver: it sits in core, below them.
 enum class Phase : int {
   kIntegrate,
   kNeighbors,
@@ -21,10 +21,11 @@ enum class Phase : int {
   kClosing,
   kContactBuild,
   kNlgsSolve,
+  kExchange,  // MPI: the ghosts' motion from their owners, the lists' global tests
   kCount
 };
 inline constexpr std::array<std::string_view, static_cast<int>(Phase::kCount)> kPhaseNames = {
-    "integrate", "neighbors", "pair pass", "closing", "contact build", "NLGS solve"};
+    "integrate", "neighbors", "pair pass", "closing", "contact build", "NLGS solve", "exchange"};
 
 class PhaseTimers {
  public:

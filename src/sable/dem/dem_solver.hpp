@@ -10,6 +10,7 @@
 #include "sable/core/parallel.hpp"
 #include "sable/dem/grain_split.hpp"
 #include "sable/dem/near_list.hpp"
+#include "sable/world/domain.hpp"
 #include "sable/world/reorder.hpp"
 #include "sable/world/solver.hpp"
 #include "sable/world/wall_totals.hpp"
@@ -54,6 +55,10 @@ class DemSolver final : public Solver {
   // closing half kick by 0.
   void compute_forces();
 
+  // The process's share of the grains (world/domain.hpp; MPI: mpi/mpi_domain.hpp), set before
+  // initialize(); by default the whole bed. Not owned.
+  void set_domain(Domain<D>* domain) { domain_ = domain ? domain : &whole_bed_; }
+
   // Fixed shares of the work per thread (one per thread, normalised) instead of shares that
   // follow the threads' measured speeds (dem/grain_split.hpp). For tests: the results are the
   // same bits for any shares.
@@ -91,9 +96,11 @@ class DemSolver final : public Solver {
 
   // The step's stages, in order (step() in dem_solver_impl.hpp), each timed as its Phase.
   Displacements integrate(double h);                  // Phase::kIntegrate
-  void update_neighbors(const Displacements* moved);  // Phase::kNeighbors
-  bool pair_pass(double h_kick);                      // Phase::kPairPass
-  void total_wall_forces();                           // Phase::kClosing
+  void update_neighbors(const Displacements* moved);  // Phase::kNeighbors (MPI: kExchange
+                                                      // first, the ghosts' motion)
+  void build_lists();
+  bool pair_pass(double h_kick);  // Phase::kPairPass
+  void total_wall_forces();       // Phase::kClosing
 
   // integrate: the opening grain loop (dem/grain_loops_impl.hpp).
   Displacements kick_and_drift(double h_kick, double h_drift);
@@ -158,6 +165,8 @@ class DemSolver final : public Solver {
   // hold zeros.
   std::vector<typename Space<D>::Rot> pair_moment_, wall_moment_;
   std::vector<double> pair_delta_, wall_delta_;  // 0 apart, > 0 overlap, -1 unknown
+  Domain<D> whole_bed_;                          // a serial run's (no decomposition)
+  Domain<D>* domain_ = &whole_bed_;              // the grains this process steps
   WallTotals<D> wall_totals_;                    // total_wall_forces()' exact sums
   std::vector<std::uint32_t> by_wall_, by_wall_begin_, by_wall_fill_;  // and its entries by wall
   std::vector<typename Space<D>::Rot> by_wall_torque_;                 // and their torques

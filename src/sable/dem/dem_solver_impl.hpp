@@ -35,7 +35,7 @@ template <int D, class Laws>
 void DemSolver<D, Laws>::initialize() {
   // The lists carry rolling springs exactly when the law has rolling resistance.
   world_.neighbors.rolling = with_rolling();
-  reorder_.build_lists(world_);  // sorting the grains first when due (world/reorder.hpp)
+  build_lists();
   compute_forces();
 }
 
@@ -62,6 +62,14 @@ void DemSolver<D, Laws>::step() {
   {
     auto scope = timers_.time(Phase::kIntegrate);
     moved = integrate(h);
+  }
+  if (domain_->distributed()) {
+    auto scope = timers_.time(Phase::kExchange);
+    domain_->refresh_ghosts(world_);
+    // The lists' tests see every grain's displacement, measured by its owner.
+    double m[2] = {moved.neighbor_max2, moved.near_max2};
+    domain_->max(m, 2);
+    moved = {m[0], m[1]};
   }
   {
     auto scope = timers_.time(Phase::kNeighbors);
@@ -116,11 +124,20 @@ typename DemSolver<D, Laws>::Displacements DemSolver<D, Laws>::integrate(double 
 template <int D, class Laws>
 void DemSolver<D, Laws>::update_neighbors(const Displacements* moved) {
   auto& nl = world_.neighbors;
-  if (moved && nl.needs_rebuild_after(moved->neighbor_max2, world_.walls))
-    reorder_.build_lists(world_);
+  if (moved && nl.needs_rebuild_after(moved->neighbor_max2, world_.walls)) build_lists();
   nl.update_incidence(world_.particles.size());
   fit_scratch_to_lists();
   update_near_list(moved);
+}
+
+// A neighbour-list build: with a decomposition, the grains first go to their owners and the
+// ghosts are chosen again; the grains sorted first when due (world/reorder.hpp, counting the
+// grains of every process); then the entries among ghosts alone are dropped.
+template <int D, class Laws>
+void DemSolver<D, Laws>::build_lists() {
+  domain_->redistribute(world_);
+  reorder_.build_lists(world_, *domain_);
+  domain_->after_build(world_);
 }
 
 // The per-contact scratch is indexed by list entry: after a rebuild (or a snapshot's lists)
@@ -156,9 +173,9 @@ void DemSolver<D, Laws>::update_near_list(const Displacements* moved) {
   auto& nl = world_.neighbors;
   const bool wet = wet_run(), rolling = with_rolling();
   const bool remade = moved ? near_.stale_after(moved->near_max2, world_.particles, nl, wet)
-                            : near_.stale(world_.particles, nl, wet);
+                            : near_.stale(world_.particles, nl, wet, *domain_);
   if (remade) {
-    near_.remake(world_.particles, nl, world_.dt, wet, [&](std::size_t k) {
+    near_.remake(world_.particles, nl, world_.dt, wet, *domain_, [&](std::size_t k) {
       dem_detail::forget_if_ended(nl.pairs.shear.data(), nl.pairs.force.data(), pair_moment_.data(),
                                   pair_delta_.data(), k, Space<D>::zero_rot());
       if (rolling) {

@@ -85,6 +85,7 @@ typename DemSolver<D, Laws>::GrainPass DemSolver<D, Laws>::make_grain_pass(doubl
           pair_delta_.data(),
           wall_delta_.data(),
           grain_flags_.data(),
+          p.flags.data(),
           with_rolling()};
 }
 
@@ -120,6 +121,7 @@ typename DemSolver<D, Laws>::Displacements DemSolver<D, Laws>::kick_and_drift(do
       const GrainPass c = pass;
       double o2 = 0.0, n2 = 0.0;
       for (std::size_t k = g0; k < g1; ++k) {
+        if (c.ghost(k)) continue;  // its owner moves it (and measures how far)
         if (c.kick(k, h_kick)) {
           c.x[k] += h_drift * c.v[k];
           if (turning) c.q[k] = S::rotate(c.q[k], c.omega[k], h_drift);

@@ -36,7 +36,10 @@ struct DemSolver<D, Laws>::GrainPass {
   const Rot *pair_moment, *wall_moment, *pair_roll, *wall_roll;
   const double *pair_delta, *wall_delta;
   const std::uint8_t* flags;  // the pair pass's (kGathered: the sum is left to the gather)
+  const std::uint8_t* kind;   // the grains' own flags (kGhost: stepped by another process)
   bool rolling;
+
+  bool ghost(std::size_t k) const { return (kind[k] & kGhost) != 0; }
 
   // v += h a, omega += h alpha: a half kick; gravity enters as an acceleration. The
   // background damping -m nu v, -I nu omega is taken implicitly (v_new feels it): stable for
@@ -99,7 +102,9 @@ struct DemSolver<D, Laws>::GrainPass {
 
   // Grain k's closing once its sum is final: its half kick by h (none when 0: forces only)
   // and its check. 1 when its state is unsound (check_grain_states() then names it).
+  // A ghost is neither kicked nor checked: its owner does both.
   [[gnu::always_inline]] int close(std::size_t k, double h) const {
+    if (ghost(k)) return 0;
     if (h > 0.0) kick(k, h);
     return sound(k) ? 0 : 1;
   }

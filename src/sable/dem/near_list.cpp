@@ -11,9 +11,12 @@
 namespace sable {
 
 template <int D>
-bool NearList<D>::stale(const ParticleStore<D>& p, const NeighborList<D>& nl, bool keep_all) const {
+bool NearList<D>::stale(const ParticleStore<D>& p, const NeighborList<D>& nl, bool keep_all,
+                        const Domain<D>& domain) const {
   const bool measure = !keep_all && x_ref_.size() == p.size();
-  return stale_after(measure ? max_displacement2<D>(p.x, x_ref_) : 0.0, p, nl, keep_all);
+  double max_d2 = measure ? max_displacement2<D>(p.x, x_ref_) : 0.0;
+  domain.max(&max_d2, 1);
+  return stale_after(max_d2, p, nl, keep_all);
 }
 
 template <int D>
@@ -29,12 +32,13 @@ bool NearList<D>::stale_after(double max_d2, const ParticleStore<D>& p, const Ne
 
 template <int D>
 void NearList<D>::filter(const ParticleStore<D>& p, const NeighborList<D>& nl, double dt,
-                         bool keep_all) {
+                         bool keep_all, const Domain<D>& domain) {
   double max_v2 = 0.0;  // a max: thread-independent
   const Vec* const vp = p.v.data();
   const auto n = static_cast<std::ptrdiff_t>(p.size());
 #pragma omp parallel for schedule(static) reduction(max : max_v2) if (n >= kMinParallelScan)
   for (std::ptrdiff_t k = 0; k < n; ++k) max_v2 = std::max(max_v2, vp[k].squaredNorm());
+  domain.max(&max_v2, 1);
   // Half the inner skin is covered in about kStepsPerRemake steps at the current top speed.
   skin = keep_all ? std::numeric_limits<double>::infinity()
                   : std::clamp(2.0 * kStepsPerRemake * std::sqrt(max_v2) * dt,

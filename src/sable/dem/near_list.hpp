@@ -28,6 +28,7 @@
 #include "sable/collision/neighbor_list.hpp"
 #include "sable/core/grow.hpp"
 #include "sable/core/particles.hpp"
+#include "sable/world/domain.hpp"
 
 namespace sable {
 
@@ -49,7 +50,9 @@ class NearList {
 
   // True when the near list no longer holds every pair that can touch: the neighbour list
   // was rebuilt since, the grains changed, or some grain moved half an inner skin.
-  bool stale(const ParticleStore<D>& p, const NeighborList<D>& nl, bool keep_all) const;
+  // `domain`: the displacement measured over every process's grains (world/domain.hpp).
+  bool stale(const ParticleStore<D>& p, const NeighborList<D>& nl, bool keep_all,
+             const Domain<D>& domain = Domain<D>{}) const;
   // The same test, given the grains' largest squared displacement since reference() (read
   // only when reference() holds every grain): the DEM step measures it in its drift loop.
   bool stale_after(double max_d2, const ParticleStore<D>& p, const NeighborList<D>& nl,
@@ -59,11 +62,12 @@ class NearList {
 
   // Remake from the neighbour list at the current positions; `drop(k)` for every pair entry
   // k left out, in parallel (drop(k) may touch entry k only). `dt` sizes the inner skin from
-  // the fastest grain.
+  // the fastest grain (of every process: `domain`, so that all choose the same skin and
+  // remake at the same steps).
   template <class Drop>
   void remake(const ParticleStore<D>& p, const NeighborList<D>& nl, double dt, bool keep_all,
-              Drop drop) {
-    filter(p, nl, dt, keep_all);
+              const Domain<D>& domain, Drop drop) {
+    filter(p, nl, dt, keep_all, domain);
     const auto n_pairs = static_cast<std::ptrdiff_t>(nl.pairs.size());
     assign_ahead(kept_, nl.pairs.size(), std::uint8_t{0});  // core/grow.hpp
     for (std::uint32_t k : index) kept_[k] = 1;
@@ -73,7 +77,8 @@ class NearList {
   }
 
  private:
-  void filter(const ParticleStore<D>& p, const NeighborList<D>& nl, double dt, bool keep_all);
+  void filter(const ParticleStore<D>& p, const NeighborList<D>& nl, double dt, bool keep_all,
+              const Domain<D>& domain);
   void make_incidence(const NeighborList<D>& nl, std::size_t n_grains);
 
   std::vector<Vec> x_ref_;  // positions at the last remake

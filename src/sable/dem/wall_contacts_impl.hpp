@@ -333,6 +333,7 @@ void DemSolver<D, Laws>::total_wall_forces() {
       }
     }
   }
+  domain_->reduce(wall_totals_);  // MPI: every process's contacts (ghosts have none)
   for (std::size_t w = 0; w < walls; ++w) {
     world_.walls[w].force = wall_totals_.force(w);
     world_.walls[w].torque = wall_totals_.torque(w);

@@ -14,6 +14,8 @@
 // A serial run uses this base class, whose hooks do nothing.
 #pragma once
 
+#include <cstdint>
+
 #include "sable/world/wall_totals.hpp"
 #include "sable/world/world.hpp"
 
@@ -27,12 +29,17 @@ class Domain {
   virtual bool distributed() const { return false; }
   // After the drift: each ghost gets its owner's x, v, omega and orientation.
   virtual void refresh_ghosts(World<D>& /*w*/) {}
-  // The largest of `x` over every process.
-  virtual double max(double x) const { return x; }
+  // Each of values[0 .. n) becomes its largest over every process.
+  virtual void max(double* /*values*/, int /*n*/) const {}
+  // The number of grains over every process (0: this process's count, a serial run).
+  virtual std::uint64_t total_grains() const { return 0; }
   // Before a neighbour-list build: the grains that left this process's box go to their new
   // owners (with their contacts' histories), the ghosts are chosen again, and the slots are
   // put back in the global order.
   virtual void redistribute(World<D>& /*w*/) {}
+  // After the build: the contacts among ghosts alone are dropped (no process needs them), and
+  // the ghost exchange is set up for the new slots.
+  virtual void after_build(World<D>& /*w*/) {}
   // Sums the walls' totals over every process (exactly: the same bits on each).
   virtual void reduce(WallTotals<D>& /*totals*/) const {}
 };

@@ -70,12 +70,12 @@ void cell_order(const std::vector<typename Space<D>::Vec>& x, const std::vector<
 }
 
 template <int D>
-bool GrainReorder<D>::apply(World<D>& w) {
+bool GrainReorder<D>::apply(World<D>& w, const Domain<D>* domain) {
   auto& p = w.particles;
   const std::size_t n = p.size();
-  if (n == 0) return false;
   double rmax = 0.0;
   for (double r : p.radius) rmax = std::max(rmax, r);
+  if (domain) domain->max(&rmax, 1);  // every process sorts on the same cells
   auto& nl = w.neighbors;
   cell_order<D>(p.x, p.id, nl.domain_lo, nl.domain_hi, std::max(2.0 * rmax + nl.skin, 1e-300),
                 order_, keys_);
@@ -161,6 +161,8 @@ void GrainReorder<D>::relabel_wall_pairs(WallPairList<D>& wl) {
   sort_by_grain(wl.i, n);
   apply_order(wl.i, entry_order_, seen_);
   apply_order(wl.wall, entry_order_, seen_);
+  apply_order(wl.element, entry_order_, seen_);  // a mesh's entries keep their element
+  apply_order(wl.feature, entry_order_, seen_);  // and the feature their history belongs to
   apply_order(wl.shear, entry_order_, seen_);
   apply_order(wl.force, entry_order_, seen_);
   apply_order(wl.roll, entry_order_, seen_);

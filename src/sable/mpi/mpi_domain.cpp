@@ -1,0 +1,269 @@
+#include "sable/mpi/mpi_domain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <tuple>
+#include <type_traits>
+#include <utility>
+
+#include "sable/core/error.hpp"
+#include "sable/mpi/records.hpp"
+
+namespace sable {
+
+namespace {
+
+// Sends out[r] to process r and returns what every process sent to this one, in rank order;
+// from[r]: the bytes that came from r.
+std::vector<char> all_to_all(MPI_Comm comm, const std::vector<std::vector<char>>& out,
+                             std::vector<int>* from = nullptr) {
+  const int size = static_cast<int>(out.size());
+  std::vector<int> send(size), recv(size), sdisp(size + 1, 0), rdisp(size + 1, 0);
+  for (int r = 0; r < size; ++r) send[r] = static_cast<int>(out[r].size());
+  MPI_Alltoall(send.data(), 1, MPI_INT, recv.data(), 1, MPI_INT, comm);
+  for (int r = 0; r < size; ++r) {
+    sdisp[r + 1] = sdisp[r] + send[r];
+    rdisp[r + 1] = rdisp[r] + recv[r];
+  }
+  std::vector<char> flat(static_cast<std::size_t>(sdisp[size])),
+      in(static_cast<std::size_t>(rdisp[size]));
+  for (int r = 0; r < size; ++r) std::copy(out[r].begin(), out[r].end(), flat.begin() + sdisp[r]);
+  MPI_Alltoallv(flat.data(), send.data(), sdisp.data(), MPI_BYTE, in.data(), recv.data(),
+                rdisp.data(), MPI_BYTE, comm);
+  if (from) *from = recv;
+  return in;
+}
+
+}  // namespace
+
+template <int D>
+MpiDomain<D>::MpiDomain(MPI_Comm comm) : comm_(comm) {
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
+  send_ids_.resize(static_cast<std::size_t>(size_));
+  recv_ids_.resize(static_cast<std::size_t>(size_));
+  send_slots_.resize(static_cast<std::size_t>(size_));
+  recv_slots_.resize(static_cast<std::size_t>(size_));
+}
+
+template <int D>
+void MpiDomain<D>::max(double* values, int n) const {
+  MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_DOUBLE, MPI_MAX, comm_);
+}
+
+template <int D>
+void MpiDomain<D>::reduce(WallTotals<D>& totals) const {
+  constexpr int kParts = D + WallTotals<D>::kRot;
+  constexpr int kPacked = ExactSum::kPacked;
+  std::vector<std::int64_t> flat(totals.size() * kParts * kPacked);
+  for (std::size_t w = 0; w < totals.size(); ++w)
+    for (int c = 0; c < kParts; ++c) {
+      const auto packed = totals.component(w, c).packed();
+      std::copy(packed.begin(), packed.end(), flat.begin() + (w * kParts + c) * kPacked);
+    }
+  MPI_Allreduce(MPI_IN_PLACE, flat.data(), static_cast<int>(flat.size()), MPI_INT64_T, MPI_SUM,
+                comm_);
+  for (std::size_t w = 0; w < totals.size(); ++w)
+    for (int c = 0; c < kParts; ++c) {
+      std::array<std::int64_t, kPacked> packed;
+      std::copy_n(flat.begin() + (w * kParts + c) * kPacked, kPacked, packed.begin());
+      totals.component(w, c) = ExactSum::from_packed(packed);
+    }
+}
+
+// The cuts from this process's owned grains (every grain counted once over the processes).
+template <int D>
+void MpiDomain<D>::cut(const World<D>& w) {
+  const auto& p = w.particles;
+  std::vector<typename Space<D>::Vec> points;
+  points.reserve(p.size());
+  for (std::size_t k = 0; k < p.size(); ++k)
+    if (!(p.flags[k] & kGhost)) points.push_back(p.x[k]);
+  rcb_.cut(
+      w.neighbors.domain_lo, w.neighbors.domain_hi, size_, points,
+      [this](std::vector<std::int64_t>& counts) {
+        MPI_Allreduce(MPI_IN_PLACE, counts.data(), static_cast<int>(counts.size()), MPI_INT64_T,
+                      MPI_SUM, comm_);
+      },
+      bias_);
+}
+
+template <int D>
+std::size_t MpiDomain<D>::ghosts_sent() const {
+  std::size_t n = 0;
+  for (const auto& s : send_ids_) n += s.size();
+  return n;
+}
+
+// Migration: the owned grains whose new box is another's go there with their contacts'
+// histories; then every process keeps what it owns and takes the ghosts it is sent.
+template <int D>
+void MpiDomain<D>::redistribute(World<D>& w) {
+  cut(w);
+  auto& p = w.particles;
+  const std::size_t n = p.size();
+  std::vector<int> dest(n, -1);  // each owned grain's new owner (-1: a ghost)
+  for (std::size_t k = 0; k < n; ++k)
+    if (!(p.flags[k] & kGhost)) dest[k] = rcb_.owner(p.x[k]);
+  auto leaving = [&](std::uint32_t k) { return dest[k] >= 0 && dest[k] != rank_; };
+  std::vector<std::vector<char>> grains(static_cast<std::size_t>(size_)), pairs = grains,
+                                                                          walls = grains;
+  for (std::uint32_t k = 0; k < n; ++k)
+    if (leaving(k)) mpi_records::put_grain(grains[static_cast<std::size_t>(dest[k])], p, k);
+  const auto& pl = w.neighbors.pairs;
+  for (std::size_t e = 0; e < pl.size(); ++e) {
+    const std::uint32_t i = pl.i[e], j = pl.j[e];
+    if (!mpi_records::carries_history(pl, e)) continue;
+    const int ri = leaving(i) ? dest[i] : -1, rj = leaving(j) ? dest[j] : -1;
+    if (ri >= 0) mpi_records::put_pair(pairs[static_cast<std::size_t>(ri)], w, e);
+    if (rj >= 0 && rj != ri) mpi_records::put_pair(pairs[static_cast<std::size_t>(rj)], w, e);
+  }
+  const auto& wl = w.neighbors.wall_pairs;
+  for (std::size_t e = 0; e < wl.size(); ++e)
+    if (leaving(wl.i[e]))
+      mpi_records::put_wall_pair(walls[static_cast<std::size_t>(dest[wl.i[e]])], w, e);
+  std::vector<char> arrivals = all_to_all(comm_, grains);
+  std::vector<char> arrived_pairs = all_to_all(comm_, pairs);
+  std::vector<char> arrived_walls = all_to_all(comm_, walls);
+
+  // What stays: the grains this process still owns, their lists' entries (those of pairs
+  // with an owned member), then the arrivals and their entries.
+  mpi_records::LocalState<D> local =
+      mpi_records::extract(w, [&](std::uint32_t k) { return dest[k] == rank_; });
+  mpi_records::read_grains(arrivals, local.particles, false);
+  mpi_records::read_pairs(arrived_pairs, w.neighbors.rolling, local.pairs);
+  mpi_records::read_wall_pairs(arrived_walls, w.neighbors.rolling, local.wall_pairs);
+
+  // Ghosts: each owned grain to every other process whose box is within reach of it.
+  double rmax = 0.0;
+  for (double r : local.particles.radius) rmax = std::max(rmax, r);
+  this->max(&rmax, 1);
+  const double halo = (2.0 * rmax + w.neighbors.skin) * (1.0 + 1e-9);
+  std::vector<std::vector<char>> ghosts(static_cast<std::size_t>(size_));
+  for (auto& s : send_ids_) s.clear();
+  for (std::uint32_t k = 0; k < local.particles.size(); ++k)
+    for (int r = 0; r < size_; ++r) {
+      if (r == rank_ || rcb_.distance2(local.particles.x[k], r) >= halo * halo) continue;
+      mpi_records::put_grain(ghosts[static_cast<std::size_t>(r)], local.particles, k);
+      send_ids_[static_cast<std::size_t>(r)].push_back(local.particles.id[k].index);
+    }
+  std::vector<int> from;
+  std::vector<char> ghost_bytes = all_to_all(comm_, ghosts, &from);
+  const std::size_t owned = local.particles.size();
+  mpi_records::read_grains(ghost_bytes, local.particles, true);
+  // Which process each ghost came from, in the order they came (rank order).
+  for (auto& r : recv_ids_) r.clear();
+  {
+    std::size_t k = owned;
+    const std::size_t record = mpi_records::grain_record_bytes<D>();
+    for (int r = 0; r < size_; ++r)
+      for (int b = 0; b < from[static_cast<std::size_t>(r)]; b += static_cast<int>(record))
+        recv_ids_[static_cast<std::size_t>(r)].push_back(local.particles.id[k++].index);
+  }
+  std::uint64_t count = owned;
+  MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_UINT64_T, MPI_SUM, comm_);
+  total_ = count;
+  mpi_records::install(w, std::move(local));
+}
+
+// The list build took the pairs among ghosts too: no process needs them (each has its own
+// owner elsewhere), and their histories would be wrong (a ghost is not always a ghost here).
+template <int D>
+void MpiDomain<D>::after_build(World<D>& w) {
+  mpi_records::drop_ghost_entries(w);
+  const auto& p = w.particles;
+  for (int r = 0; r < size_; ++r) {
+    auto to_slots = [&](const std::vector<std::uint32_t>& ids, std::vector<std::uint32_t>& slots) {
+      slots.clear();
+      for (std::uint32_t index : ids) slots.push_back(p.ids.slot(p.ids.id_at_index(index)));
+      std::sort(slots.begin(), slots.end());
+    };
+    to_slots(send_ids_[static_cast<std::size_t>(r)], send_slots_[static_cast<std::size_t>(r)]);
+    to_slots(recv_ids_[static_cast<std::size_t>(r)], recv_slots_[static_cast<std::size_t>(r)]);
+  }
+}
+
+// After each drift: the owners' positions, velocities, spins and orientations, in slot order
+// on both sides (the global order restricted to the same grains).
+template <int D>
+void MpiDomain<D>::refresh_ghosts(World<D>& w) {
+  auto& p = w.particles;
+  std::vector<std::vector<char>> out(static_cast<std::size_t>(size_));
+  for (int r = 0; r < size_; ++r)
+    for (std::uint32_t k : send_slots_[static_cast<std::size_t>(r)])
+      mpi_records::put_motion(out[static_cast<std::size_t>(r)], p, k);
+  const std::vector<char> in = all_to_all(comm_, out);
+  const char* at = in.data();
+  for (int r = 0; r < size_; ++r)
+    for (std::uint32_t k : recv_slots_[static_cast<std::size_t>(r)])
+      at = mpi_records::get_motion(at, p, k);
+}
+
+// Every process built the whole world: keep this one's share, as a redistribution would.
+template <int D>
+void MpiDomain<D>::scatter(World<D>& w) {
+  total_ = w.particles.size();
+  // Every process holds every grain: the cut needs no sum over processes.
+  std::vector<typename Space<D>::Vec> points = w.particles.x;
+  rcb_.cut(
+      w.neighbors.domain_lo, w.neighbors.domain_hi, size_, points,
+      [](std::vector<std::int64_t>&) {}, bias_);
+  const auto& p = w.particles;
+  double rmax = 0.0;
+  for (double r : p.radius) rmax = std::max(rmax, r);
+  const double halo = (2.0 * rmax + w.neighbors.skin) * (1.0 + 1e-9);
+  std::vector<int> owner(p.size());
+  for (std::size_t k = 0; k < p.size(); ++k) owner[k] = rcb_.owner(p.x[k]);
+  for (auto& s : send_ids_) s.clear();
+  for (auto& s : recv_ids_) s.clear();
+  std::vector<std::uint8_t> keep(p.size(), 0);  // 1 owned, 2 ghost
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    for (int r = 0; r < size_; ++r) {
+      if (r == owner[k] || rcb_.distance2(p.x[k], r) >= halo * halo) continue;
+      if (owner[k] == rank_) send_ids_[static_cast<std::size_t>(r)].push_back(p.id[k].index);
+      if (r == rank_) {
+        recv_ids_[static_cast<std::size_t>(owner[k])].push_back(p.id[k].index);
+        keep[k] = 2;
+      }
+    }
+    if (owner[k] == rank_) keep[k] = 1;
+  }
+  mpi_records::LocalState<D> local =
+      mpi_records::extract(w, [&](std::uint32_t k) { return keep[k] != 0; });
+  for (std::size_t k = 0, m = 0; k < p.size(); ++k) {
+    if (!keep[k]) continue;
+    if (keep[k] == 2) local.particles.flags[m] |= kGhost;
+    ++m;
+  }
+  mpi_records::install(w, std::move(local));
+  after_build(w);
+}
+
+template <int D>
+void MpiDomain<D>::gather(World<D>& w, World<D>& whole, int root) const {
+  std::vector<char> grains, pairs, walls;
+  mpi_records::put_owned(w, grains, pairs, walls);
+  auto collect = [&](const std::vector<char>& mine) {
+    int bytes = static_cast<int>(mine.size());
+    std::vector<int> counts(static_cast<std::size_t>(size_)),
+        disp(static_cast<std::size_t>(size_) + 1, 0);
+    MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, root, comm_);
+    for (int r = 0; r < size_; ++r) disp[r + 1] = disp[r] + counts[r];
+    std::vector<char> all(rank_ == root ? static_cast<std::size_t>(disp[size_]) : 0);
+    MPI_Gatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), disp.data(), MPI_BYTE,
+                root, comm_);
+    return all;
+  };
+  std::vector<char> all_grains = collect(grains), all_pairs = collect(pairs),
+                    all_walls = collect(walls);
+  if (rank_ != root) return;
+  whole = w;
+  mpi_records::assemble(whole, all_grains, all_pairs, all_walls);
+}
+
+template class MpiDomain<2>;
+template class MpiDomain<3>;
+
+}  // namespace sable

@@ -1,0 +1,65 @@
+// MPI domain decomposition of the grains (the Domain of world/domain.hpp): recursive
+// coordinate bisection (mpi/rcb.hpp) of the neighbour list's domain into one box per
+// process, remade at every list build; each process steps the grains in its box and holds
+// ghost copies of the grains within reach of it (2 R_max + skin: every pair a list build can
+// take), with newton off (a pair across two boxes is computed on both, its history kept by
+// both). Grains move to their new owner at list builds, with the histories of their
+// contacts. Built only when MPI is found (CMake: SABLE_MPI).
+#pragma once
+
+#include <mpi.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "sable/mpi/rcb.hpp"
+#include "sable/world/domain.hpp"
+
+namespace sable {
+
+template <int D>
+class MpiDomain final : public Domain<D> {
+ public:
+  explicit MpiDomain(MPI_Comm comm);
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+
+  bool distributed() const override { return true; }
+  void refresh_ghosts(World<D>& w) override;
+  void max(double* values, int n) const override;
+  std::uint64_t total_grains() const override { return total_; }
+  void redistribute(World<D>& w) override;
+  void after_build(World<D>& w) override;
+  void reduce(WallTotals<D>& totals) const override;
+
+  // From a World every process built whole (the same scenario, the same bits): keeps this
+  // process's share, as a redistribution with nothing to send would.
+  void scatter(World<D>& w);
+  // The whole state on process `root` (`whole`: a copy of w with every grain, its slots in the
+  // global order and its lists as a serial run holds them); other processes leave `whole`
+  // alone. For state hashes, outputs and snapshots.
+  void gather(World<D>& w, World<D>& whole, int root) const;
+
+  // Tests: cut lopsided (the lower half of each cut takes `bias` times its share), which must
+  // change no result.
+  void set_cut_bias(double bias) { bias_ = bias; }
+  // The box of each process, and the grains this one sends to each other as ghosts at each
+  // refresh (for tests and the decomposition's statistics).
+  const Rcb<D>& cuts() const { return rcb_; }
+  std::size_t ghosts_sent() const;
+
+ private:
+  void cut(const World<D>& w);
+  void keep(World<D>& w, std::vector<char>&& arrivals, std::vector<char>&& ghosts);
+
+  MPI_Comm comm_;
+  int rank_ = 0, size_ = 1;
+  std::uint64_t total_ = 0;  // grains over every process
+  double bias_ = 1.0;
+  Rcb<D> rcb_;
+  // Per process: the ids of the grains this one sends as ghosts / receives as ghosts (from
+  // redistribute), then their slots (after_build), in slot order.
+  std::vector<std::vector<std::uint32_t>> send_ids_, recv_ids_, send_slots_, recv_slots_;
+};
+
+}  // namespace sable
