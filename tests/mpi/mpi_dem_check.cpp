@@ -2,8 +2,9 @@
 // any number of processes. Run as `mpirun -np N sable_mpi_dem_check SCENARIO STEPS [RECUT]`:
 // every process builds the scenario's world; process 0 also steps a serial copy with the
 // plain DemSolver; the decomposed run steps STEPS steps of its first stage's physics (no
-// stage rules), then the whole state is gathered on process 0 and both state hashes are
-// compared. BIAS (default 1) makes every cut lopsided (mpi/rcb.hpp). Exit 0 when the hashes
+// stage rules; the wall velocities and rotations of stage STAGE, counted from 0, default 0),
+// then the whole state is gathered on process 0 and both state hashes are compared. BIAS
+// (default 1) makes every cut lopsided (mpi/rcb.hpp). Exit 0 when the hashes
 // are equal (on every process), 1 when not, 2 on bad arguments.
 #include <mpi.h>
 
@@ -73,10 +74,20 @@ void compare(const sable::World<D>& a, const sable::World<D>& b) {
 }
 
 template <int D>
-int check(const sable::ScenarioConfig& cfg, int steps, double bias, int rank) {
+int check(const sable::ScenarioConfig& cfg, int steps, double bias, std::size_t stage, int rank) {
   sable::World<D> world;
   sable::build_model(cfg, world);
   sable::build_grains(cfg, world);
+  if (stage < cfg.stages.size()) {  // the stage's wall motions, as the runner sets them
+    for (const auto& [name, vel] : cfg.stages[stage].wall_velocity)
+      for (std::size_t k : sable::walls_named(world, name))
+        world.walls[k].velocity = sable::Space<D>::from_array(vel);
+    for (const auto& [name, rot] : cfg.stages[stage].wall_rotation)
+      for (auto& wall : world.walls)
+        if (wall.name == name)
+          wall.set_rotation(sable::Space<D>::from_array(rot.point),
+                            sable::Space<D>::from_array(rot.axis), rot.rate);
+  }
   std::uint64_t serial = 0;
   sable::World<D> ref;
   if (rank == 0) {
@@ -123,19 +134,20 @@ int main(int argc, char** argv) {
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   int rc = 2;
-  if (argc == 3 || argc == 4) {
+  if (argc >= 3 && argc <= 5) {
     try {
       const sable::ScenarioConfig cfg = sable::load_scenario(argv[1]);
       const int steps = std::atoi(argv[2]);
-      const double bias = argc == 4 ? std::atof(argv[3]) : 1.0;
-      rc = cfg.sim.dimension == 2 ? check<2>(cfg, steps, bias, rank)
-                                  : check<3>(cfg, steps, bias, rank);
+      const double bias = argc >= 4 ? std::atof(argv[3]) : 1.0;
+      const auto stage = static_cast<std::size_t>(argc == 5 ? std::atoi(argv[4]) : 0);
+      rc = cfg.sim.dimension == 2 ? check<2>(cfg, steps, bias, stage, rank)
+                                  : check<3>(cfg, steps, bias, stage, rank);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "process %d: %s\n", rank, e.what());
       MPI_Abort(MPI_COMM_WORLD, 1);
     }
   } else if (rank == 0) {
-    std::fprintf(stderr, "usage: mpirun -np N %s SCENARIO STEPS [BIAS]\n", argv[0]);
+    std::fprintf(stderr, "usage: mpirun -np N %s SCENARIO STEPS [BIAS [STAGE]]\n", argv[0]);
   }
   MPI_Finalize();
   return rc;
