@@ -558,10 +558,7 @@ void CdSolver<D>::store_impulses() {
     const double r_min = c_.wall[a] ? p.radius[i] : std::min(p.radius[i], p.radius[j]);
     diag_.max_overlap_ratio = std::max(diag_.max_overlap_ratio, -c_.gap[a] / r_min);
   }
-  for (std::size_t w = 0; w < world_.walls.size(); ++w) {
-    world_.walls[w].force = wall_totals_.force(w);
-    world_.walls[w].torque = wall_totals_.torque(w);
-  }
+  wall_totals_.store(world_.walls);
 }
 
 template <int D>

@@ -129,12 +129,15 @@ class ExactSum {
   // Moves every limb's excess over 32 bits into the next one (arithmetic shifts: floor
   // division, so a negative sum ends with a negative top limb and the others in [0, 2^32)).
   void carry() {
-    for (int i = 0; i + 1 < kLimbs; ++i) {
-      const std::int64_t c = limb_[i] >> 32;
-      limb_[i] -= c * (std::int64_t{1} << 32);
-      limb_[i + 1] += c;
-    }
+    carry(limb_);
     pending_ = 0;
+  }
+  static void carry(std::array<std::int64_t, kLimbs>& l) {
+    for (int i = 0; i + 1 < kLimbs; ++i) {
+      const std::int64_t c = l[i] >> 32;
+      l[i] -= c * (std::int64_t{1} << 32);
+      l[i + 1] += c;
+    }
   }
 
   // The largest double is below 2^(2045 + 53 - 1074 + 1), so terms reach limb 65; the
@@ -212,11 +215,7 @@ inline double ExactSum::value() const {
   const bool negative = l[kLimbs - 1] < 0;
   if (negative) {  // the magnitude: negate every limb and carry again
     for (auto& x : l) x = -x;
-    for (int i = 0; i + 1 < kLimbs; ++i) {
-      const std::int64_t c = l[i] >> 32;
-      l[i] -= c * (std::int64_t{1} << 32);
-      l[i + 1] += c;
-    }
+    carry(l);
   }
   int t = kLimbs - 1;
   while (t >= 0 && l[t] == 0) --t;

@@ -305,12 +305,12 @@ void DemSolver<D, Laws>::total_wall_forces() {
     for (std::uint32_t e = by_wall_begin_[w]; e < by_wall_begin_[w + 1]; ++e) {
       const std::uint32_t k = by_wall_[e];
       const std::uint32_t i = wl.i[k];
-      Rot t = S::zero_rot();
-      if (wall_delta_[k] > 0.0)
+      Rot t = S::zero_rot();  // an overlap unknown (-1) counts in the force only
+      if (wall_delta_[k] > 0.0) {
         t = (p.radius[i] - 0.5 * wall_delta_[k]) * wall_moment_[k] -
             S::moment(p.x[i] - pivot, wl.force[k]);
-      // The reaction to the grain's rolling couple.
-      if (rolling && wall_delta_[k] > 0.0) t -= wall_roll_[k];
+        if (rolling) t -= wall_roll_[k];  // the reaction to the grain's rolling couple
+      }
       by_wall_torque_[e] = t;
     }
   }
@@ -334,10 +334,7 @@ void DemSolver<D, Laws>::total_wall_forces() {
     }
   }
   domain_->reduce(wall_totals_);  // MPI: every process's contacts (ghosts have none)
-  for (std::size_t w = 0; w < walls; ++w) {
-    world_.walls[w].force = wall_totals_.force(w);
-    world_.walls[w].torque = wall_totals_.torque(w);
-  }
+  wall_totals_.store(world_.walls);
 }
 
 }  // namespace sable

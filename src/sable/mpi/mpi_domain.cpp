@@ -1,14 +1,8 @@
 #include "sable/mpi/mpi_domain.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <cstring>
-#include <limits>
-#include <tuple>
-#include <type_traits>
 #include <utility>
 
-#include "sable/core/error.hpp"
 #include "sable/mpi/records.hpp"
 
 namespace sable {
@@ -90,13 +84,6 @@ void MpiDomain<D>::cut(const World<D>& w) {
       bias_);
 }
 
-template <int D>
-std::size_t MpiDomain<D>::ghosts_sent() const {
-  std::size_t n = 0;
-  for (const auto& s : send_ids_) n += s.size();
-  return n;
-}
-
 // Migration: the owned grains whose new box is another's go there with their contacts'
 // histories; then every process keeps what it owns and takes the ghosts it is sent.
 template <int D>
@@ -133,22 +120,21 @@ void MpiDomain<D>::redistribute(World<D>& w) {
   mpi_records::LocalState<D> local =
       mpi_records::extract(w, [&](std::uint32_t k) { return dest[k] == rank_; });
   mpi_records::read_grains(arrivals, local.particles, false);
-  mpi_records::read_pairs(arrived_pairs, w.neighbors.rolling, local.pairs);
-  mpi_records::read_wall_pairs(arrived_walls, w.neighbors.rolling, local.wall_pairs);
+  mpi_records::read_pairs(arrived_pairs, local.pairs);
+  mpi_records::read_wall_pairs(arrived_walls, local.wall_pairs);
 
   // Ghosts: each owned grain to every other process whose box is within reach of it.
   double rmax = 0.0;
   for (double r : local.particles.radius) rmax = std::max(rmax, r);
   this->max(&rmax, 1);
-  const double halo = (2.0 * rmax + w.neighbors.skin) * (1.0 + 1e-9);
+  const double reach2 = ghost_reach2(rmax, w.neighbors.skin);
   std::vector<std::vector<char>> ghosts(static_cast<std::size_t>(size_));
   for (auto& s : send_ids_) s.clear();
   for (std::uint32_t k = 0; k < local.particles.size(); ++k)
-    for (int r = 0; r < size_; ++r) {
-      if (r == rank_ || rcb_.distance2(local.particles.x[k], r) >= halo * halo) continue;
+    for_each_box_near(local.particles.x[k], reach2, rank_, [&](int r) {
       mpi_records::put_grain(ghosts[static_cast<std::size_t>(r)], local.particles, k);
       send_ids_[static_cast<std::size_t>(r)].push_back(local.particles.id[k].index);
-    }
+    });
   std::vector<int> from;
   std::vector<char> ghost_bytes = all_to_all(comm_, ghosts, &from);
   const std::size_t owned = local.particles.size();
@@ -204,31 +190,28 @@ void MpiDomain<D>::refresh_ghosts(World<D>& w) {
 // Every process built the whole world: keep this one's share, as a redistribution would.
 template <int D>
 void MpiDomain<D>::scatter(World<D>& w) {
-  total_ = w.particles.size();
-  // Every process holds every grain: the cut needs no sum over processes.
-  std::vector<typename Space<D>::Vec> points = w.particles.x;
-  rcb_.cut(
-      w.neighbors.domain_lo, w.neighbors.domain_hi, size_, points,
-      [](std::vector<std::int64_t>&) {}, bias_);
   const auto& p = w.particles;
+  total_ = p.size();
+  // Every process holds every grain: the cut needs no sum over processes.
+  rcb_.cut(
+      w.neighbors.domain_lo, w.neighbors.domain_hi, size_, p.x, [](std::vector<std::int64_t>&) {},
+      bias_);
   double rmax = 0.0;
   for (double r : p.radius) rmax = std::max(rmax, r);
-  const double halo = (2.0 * rmax + w.neighbors.skin) * (1.0 + 1e-9);
-  std::vector<int> owner(p.size());
-  for (std::size_t k = 0; k < p.size(); ++k) owner[k] = rcb_.owner(p.x[k]);
+  const double reach2 = ghost_reach2(rmax, w.neighbors.skin);
   for (auto& s : send_ids_) s.clear();
   for (auto& s : recv_ids_) s.clear();
   std::vector<std::uint8_t> keep(p.size(), 0);  // 1 owned, 2 ghost
   for (std::size_t k = 0; k < p.size(); ++k) {
-    for (int r = 0; r < size_; ++r) {
-      if (r == owner[k] || rcb_.distance2(p.x[k], r) >= halo * halo) continue;
-      if (owner[k] == rank_) send_ids_[static_cast<std::size_t>(r)].push_back(p.id[k].index);
+    const int owner = rcb_.owner(p.x[k]);
+    for_each_box_near(p.x[k], reach2, owner, [&](int r) {
+      if (owner == rank_) send_ids_[static_cast<std::size_t>(r)].push_back(p.id[k].index);
       if (r == rank_) {
-        recv_ids_[static_cast<std::size_t>(owner[k])].push_back(p.id[k].index);
+        recv_ids_[static_cast<std::size_t>(owner)].push_back(p.id[k].index);
         keep[k] = 2;
       }
-    }
-    if (owner[k] == rank_) keep[k] = 1;
+    });
+    if (owner == rank_) keep[k] = 1;
   }
   mpi_records::LocalState<D> local =
       mpi_records::extract(w, [&](std::uint32_t k) { return keep[k] != 0; });

@@ -43,14 +43,21 @@ class MpiDomain final : public Domain<D> {
   // Tests: cut lopsided (the lower half of each cut takes `bias` times its share), which must
   // change no result.
   void set_cut_bias(double bias) { bias_ = bias; }
-  // The box of each process, and the grains this one sends to each other as ghosts at each
-  // refresh (for tests and the decomposition's statistics).
-  const Rcb<D>& cuts() const { return rcb_; }
-  std::size_t ghosts_sent() const;
 
  private:
   void cut(const World<D>& w);
-  void keep(World<D>& w, std::vector<char>&& arrivals, std::vector<char>&& ghosts);
+  // The squared reach of a ghost: every pair a list build can take, 2 R_max + skin (a hair
+  // more, so that round-off never leaves one out).
+  static double ghost_reach2(double rmax, double skin) {
+    const double reach = (2.0 * rmax + skin) * (1.0 + 1e-9);
+    return reach * reach;
+  }
+  // f(r) for every process r but `owner` whose box is within reach of x.
+  template <class F>
+  void for_each_box_near(const typename Space<D>::Vec& x, double reach2, int owner, F&& f) const {
+    for (int r = 0; r < size_; ++r)
+      if (r != owner && rcb_.distance2(x, r) < reach2) f(r);
+  }
 
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;

@@ -34,10 +34,13 @@ bool nonzero(const typename Space<D>::Rot& r) {
 
 template <int D>
 std::size_t grain_record_bytes() {
-  std::size_t bytes = 0;
-  ParticleStore<D> p;
-  p.for_each_array(
-      [&](auto& a) { bytes += sizeof(typename std::decay_t<decltype(a)>::value_type); });
+  static const std::size_t bytes = [] {
+    std::size_t sum = 0;
+    ParticleStore<D> p;
+    p.for_each_array(
+        [&](auto& a) { sum += sizeof(typename std::decay_t<decltype(a)>::value_type); });
+    return sum;
+  }();
   return bytes;
 }
 
@@ -48,13 +51,14 @@ void put_grain(std::vector<char>& out, const ParticleStore<D>& p, std::uint32_t 
   store.for_each_array([&](auto& a) { put(out, a[k]); });
 }
 
+namespace {
+
+// `count` grain records from `at`, appended to p as ghosts or as owned grains; returns where
+// they end.
 template <int D>
-void read_grains(const std::vector<char>& bytes, ParticleStore<D>& p, bool ghosts) {
-  const std::size_t record = grain_record_bytes<D>();
-  if (bytes.size() % record != 0)
-    throw IoError("mpi: a message of grains is not a whole number of grain records");
-  const char* at = bytes.data();
-  for (std::size_t n = 0; n < bytes.size() / record; ++n) {
+const char* read_grain_records(const char* at, std::size_t count, ParticleStore<D>& p,
+                               bool ghosts) {
+  for (std::size_t n = 0; n < count; ++n) {
     p.for_each_array([&](auto& a) {
       typename std::decay_t<decltype(a)>::value_type v;
       at = get(at, v);
@@ -62,6 +66,17 @@ void read_grains(const std::vector<char>& bytes, ParticleStore<D>& p, bool ghost
     });
     p.flags.back() = ghosts ? (p.flags.back() | kGhost) : (p.flags.back() & ~kGhost);
   }
+  return at;
+}
+
+}  // namespace
+
+template <int D>
+void read_grains(const std::vector<char>& bytes, ParticleStore<D>& p, bool ghosts) {
+  const std::size_t record = grain_record_bytes<D>();
+  if (bytes.size() % record != 0)
+    throw IoError("mpi: a message of grains is not a whole number of grain records");
+  read_grain_records(bytes.data(), bytes.size() / record, p, ghosts);
 }
 
 template <int D>
@@ -72,78 +87,75 @@ bool carries_history(const PairList<D>& pl, std::size_t e) {
 }
 
 template <int D>
-void put_pair(std::vector<char>& out, const World<D>& w, std::size_t e) {
+PairRecord<D> pair_record(const World<D>& w, std::size_t e) {
   const auto& pl = w.neighbors.pairs;
   const auto& p = w.particles;
-  put(out, p.id[pl.i[e]]);
-  put(out, p.id[pl.j[e]]);
-  put(out, pl.shear[e]);
-  put(out, pl.force[e]);
-  put(out, pl.roll.empty() ? Space<D>::zero_rot() : pl.roll[e]);
-  put(out, pl.bridge.empty() ? PairList<D>::kNoBridge : pl.bridge[e]);
+  return {p.id[pl.i[e]],
+          p.id[pl.j[e]],
+          pl.shear[e],
+          pl.force[e],
+          pl.roll.empty() ? Space<D>::zero_rot() : pl.roll[e],
+          pl.bridge.empty() ? PairList<D>::kNoBridge : pl.bridge[e]};
+}
+
+template <int D>
+WallRecord<D> wall_record(const World<D>& w, std::size_t e) {
+  const auto& wl = w.neighbors.wall_pairs;
+  return {w.particles.id[wl.i[e]],
+          wl.wall[e],
+          wl.element[e],
+          wl.feature.empty() ? std::uint32_t{0} : wl.feature[e],
+          wl.shear[e],
+          wl.force[e],
+          wl.roll.empty() ? Space<D>::zero_rot() : wl.roll[e]};
+}
+
+template <int D>
+void put_pair(std::vector<char>& out, const World<D>& w, std::size_t e) {
+  put(out, pair_record(w, e));
 }
 
 template <int D>
 void put_wall_pair(std::vector<char>& out, const World<D>& w, std::size_t e) {
-  const auto& wl = w.neighbors.wall_pairs;
-  put(out, w.particles.id[wl.i[e]]);
-  put(out, wl.wall[e]);
-  put(out, wl.element[e]);
-  put(out, wl.feature.empty() ? std::uint32_t{0} : wl.feature[e]);
-  put(out, wl.shear[e]);
-  put(out, wl.force[e]);
-  put(out, wl.roll.empty() ? Space<D>::zero_rot() : wl.roll[e]);
+  put(out, wall_record(w, e));
 }
 
-template <int D>
-void read_pairs(const std::vector<char>& bytes, bool /*rolling*/, std::vector<PairRecord<D>>& out) {
-  const char* at = bytes.data();
-  const char* end = at + bytes.size();
-  while (at < end) {
-    PairRecord<D> r;
-    at = get(get(at, r.a), r.b);
-    at = get(get(get(get(at, r.shear), r.force), r.roll), r.bridge);
+// The records of a message, whole structs as put() wrote them.
+template <class Record>
+void read_records(const std::vector<char>& bytes, std::vector<Record>& out) {
+  if (bytes.size() % sizeof(Record) != 0)
+    throw IoError("mpi: a message of list entries is not a whole number of records");
+  for (const char* at = bytes.data(); at < bytes.data() + bytes.size();) {
+    Record r;
+    at = get(at, r);
     out.push_back(r);
   }
 }
 
 template <int D>
-void read_wall_pairs(const std::vector<char>& bytes, bool /*rolling*/,
-                     std::vector<WallRecord<D>>& out) {
-  const char* at = bytes.data();
-  const char* end = at + bytes.size();
-  while (at < end) {
-    WallRecord<D> r;
-    at = get(get(get(get(at, r.a), r.wall), r.element), r.feature);
-    at = get(get(get(at, r.shear), r.force), r.roll);
-    out.push_back(r);
-  }
+void read_pairs(const std::vector<char>& bytes, std::vector<PairRecord<D>>& out) {
+  read_records(bytes, out);
 }
 
-// Appends grain k of `from` to `to`, every array.
 template <int D>
-void copy_grain(const ParticleStore<D>& from, std::uint32_t k, ParticleStore<D>& to) {
-  std::vector<char> bytes;
-  put_grain(bytes, from, k);
-  read_grains(bytes, to, (from.flags[k] & kGhost) != 0);
+void read_wall_pairs(const std::vector<char>& bytes, std::vector<WallRecord<D>>& out) {
+  read_records(bytes, out);
 }
 
 template <int D>
 LocalState<D> extract(const World<D>& w, const std::function<bool(std::uint32_t)>& keep) {
   LocalState<D> s;
   const auto& p = w.particles;
-  for (std::uint32_t k = 0; k < p.size(); ++k)
-    if (keep(k)) copy_grain(p, k, s.particles);
-  const auto& pl = w.neighbors.pairs;
   std::vector<char> bytes;
+  for (std::uint32_t k = 0; k < p.size(); ++k)
+    if (keep(k)) put_grain(bytes, p, k);
+  read_grains(bytes, s.particles, false);  // as owned: scatter() marks its ghosts after
+  const auto& pl = w.neighbors.pairs;
   for (std::size_t e = 0; e < pl.size(); ++e)
-    if (keep(pl.i[e]) || keep(pl.j[e])) put_pair(bytes, w, e);
-  read_pairs(bytes, w.neighbors.rolling, s.pairs);
-  bytes.clear();
+    if (keep(pl.i[e]) || keep(pl.j[e])) s.pairs.push_back(pair_record(w, e));
   const auto& wl = w.neighbors.wall_pairs;
   for (std::size_t e = 0; e < wl.size(); ++e)
-    if (keep(wl.i[e])) put_wall_pair(bytes, w, e);
-  read_wall_pairs(bytes, w.neighbors.rolling, s.wall_pairs);
+    if (keep(wl.i[e])) s.wall_pairs.push_back(wall_record(w, e));
   return s;
 }
 
@@ -243,16 +255,17 @@ template <int D>
 void install(World<D>& w, LocalState<D>&& local) {
   if (!w.liquid.film.empty())
     throw InputError("MPI runs do not take liquid bridges yet: run a wet scenario serially");
-  const ParticleStore<D>& from = local.particles;
-  const std::vector<std::uint32_t> order = global_order(from);
-  ParticleStore<D> p;
+  // The grains into the global order, each array permuted as a whole.
+  ParticleStore<D> p = std::move(local.particles);
+  const std::vector<std::uint32_t> order = global_order(p);
+  p.for_each_array([&](auto& a) {
+    auto from = a;
+    for (std::size_t s = 0; s < order.size(); ++s) a[s] = from[order[s]];
+  });
   std::uint32_t max_index = 0;
-  for (std::uint32_t k : order) {
-    copy_grain(from, k, p);
-    max_index = std::max(max_index, from.id[k].index);
-  }
+  for (const ParticleId& id : p.id) max_index = std::max(max_index, id.index);
   // The registry: each local grain's id to its slot; the others' indices free of any slot.
-  std::vector<std::uint32_t> slots(from.size() ? max_index + 1 : 0, IdRegistry::kNoSlot);
+  std::vector<std::uint32_t> slots(p.size() ? max_index + 1 : 0, IdRegistry::kNoSlot);
   std::vector<std::uint32_t> generations(slots.size(), 0);
   for (std::uint32_t s = 0; s < p.size(); ++s) {
     slots[p.id[s].index] = s;
@@ -346,18 +359,16 @@ template <int D>
 void assemble(World<D>& whole, const std::vector<char>& grains, const std::vector<char>& pairs,
               const std::vector<char>& walls) {
   LocalState<D> s;
-  const std::size_t record = grain_record_bytes<D>();
-  const std::size_t step = record + sizeof(typename Space<D>::Vec);
-  for (std::size_t at = 0; at + step <= grains.size(); at += step) {
-    read_grains(std::vector<char>(grains.begin() + static_cast<std::ptrdiff_t>(at),
-                                  grains.begin() + static_cast<std::ptrdiff_t>(at + record)),
-                s.particles, false);
-    typename Space<D>::Vec ref;
-    get(grains.data() + at + record, ref);
-    s.x_ref.push_back(ref);
+  const std::size_t step = grain_record_bytes<D>() + sizeof(typename Space<D>::Vec);
+  if (grains.size() % step != 0)
+    throw IoError("mpi: the gathered grains are not a whole number of grain records");
+  for (const char* at = grains.data(); at < grains.data() + grains.size();) {
+    at = read_grain_records(at, 1, s.particles, false);
+    s.x_ref.emplace_back();
+    at = get(at, s.x_ref.back());
   }
-  read_pairs(pairs, whole.neighbors.rolling, s.pairs);
-  read_wall_pairs(walls, whole.neighbors.rolling, s.wall_pairs);
+  read_pairs(pairs, s.pairs);
+  read_wall_pairs(walls, s.wall_pairs);
   install(whole, std::move(s));
 }
 
@@ -368,8 +379,8 @@ void assemble(World<D>& whole, const std::vector<char>& grains, const std::vecto
   template bool carries_history<D>(const PairList<D>&, std::size_t);                             \
   template void put_pair<D>(std::vector<char>&, const World<D>&, std::size_t);                   \
   template void put_wall_pair<D>(std::vector<char>&, const World<D>&, std::size_t);              \
-  template void read_pairs<D>(const std::vector<char>&, bool, std::vector<PairRecord<D>>&);      \
-  template void read_wall_pairs<D>(const std::vector<char>&, bool, std::vector<WallRecord<D>>&); \
+  template void read_pairs<D>(const std::vector<char>&, std::vector<PairRecord<D>>&);            \
+  template void read_wall_pairs<D>(const std::vector<char>&, std::vector<WallRecord<D>>&);       \
   template LocalState<D> extract<D>(const World<D>&, const std::function<bool(std::uint32_t)>&); \
   template void install<D>(World<D>&, LocalState<D> &&);                                         \
   template void drop_ghost_entries<D>(World<D>&);                                                \

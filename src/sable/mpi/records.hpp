@@ -58,9 +58,9 @@ void put_pair(std::vector<char>& out, const World<D>& w, std::size_t e);
 template <int D>
 void put_wall_pair(std::vector<char>& out, const World<D>& w, std::size_t e);
 template <int D>
-void read_pairs(const std::vector<char>& bytes, bool rolling, std::vector<PairRecord<D>>& out);
+void read_pairs(const std::vector<char>& bytes, std::vector<PairRecord<D>>& out);
 template <int D>
-void read_wall_pairs(const std::vector<char>& bytes, bool rolling, std::vector<WallRecord<D>>& out);
+void read_wall_pairs(const std::vector<char>& bytes, std::vector<WallRecord<D>>& out);
 
 // The grains of w for which keep(slot) holds, with every entry of the lists that has one of
 // them as a member (a grain entry) or as its grain (a wall entry).

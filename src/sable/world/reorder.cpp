@@ -70,12 +70,12 @@ void cell_order(const std::vector<typename Space<D>::Vec>& x, const std::vector<
 }
 
 template <int D>
-bool GrainReorder<D>::apply(World<D>& w, const Domain<D>* domain) {
+bool GrainReorder<D>::apply(World<D>& w, const Domain<D>& domain) {
   auto& p = w.particles;
   const std::size_t n = p.size();
   double rmax = 0.0;
   for (double r : p.radius) rmax = std::max(rmax, r);
-  if (domain) domain->max(&rmax, 1);  // every process sorts on the same cells
+  domain.max(&rmax, 1);  // every process sorts on the same cells
   auto& nl = w.neighbors;
   cell_order<D>(p.x, p.id, nl.domain_lo, nl.domain_hi, std::max(2.0 * rmax + nl.skin, 1e-300),
                 order_, keys_);

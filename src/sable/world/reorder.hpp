@@ -84,18 +84,18 @@ class GrainReorder {
   // over the list's domain), sets their order_key (the cell) and renames their slots everywhere
   // the World holds them. Returns false, moving no slot, when they already are in that order. Call
   // it just before NeighborList::build().
-  bool apply(World<D>& w, const Domain<D>* domain = nullptr);
+  // `domain`: the largest radius, which sizes the cells, is that of every process's grains.
+  bool apply(World<D>& w, const Domain<D>& domain = Domain<D>{});
   // A neighbour-list build, preceded by apply() when reorder_due() names it (counting builds
   // from the first, by the saved build count, so that a resumed run sorts where the unbroken
   // one did): what both solvers call at every build. The order follows from the positions
   // alone, so it is the same for any number of threads.
-  void build_lists(World<D>& w) { build_lists(w, Domain<D>{}); }
-  // The same for a process's share of the grains (world/domain.hpp): the count that decides a
-  // sort and the largest radius that sizes its cells are those of every process's grains.
-  void build_lists(World<D>& w, const Domain<D>& domain) {
+  // For a process's share of the grains (world/domain.hpp), the count that decides a sort is
+  // that of every process's grains.
+  void build_lists(World<D>& w, const Domain<D>& domain = Domain<D>{}) {
     const std::uint64_t total = domain.total_grains();
     if (reorder_due(w.reorder_every, w.neighbors.builds, total ? total : w.particles.size()))
-      apply(w, &domain);
+      apply(w, domain);
     w.neighbors.build(w.particles, w.walls);
   }
   std::uint64_t reorders = 0;  // how many times apply() moved the grains

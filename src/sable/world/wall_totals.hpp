@@ -9,6 +9,7 @@
 
 #include "sable/core/exact_sum.hpp"
 #include "sable/core/space.hpp"
+#include "sable/geometry/walls.hpp"
 
 namespace sable {
 
@@ -40,6 +41,14 @@ class WallTotals {
 
   // Component c of a wall's total: force d = 0 .. D-1, then torque (one component in 2D).
   ExactSum& component(std::size_t wall, int c) { return sums_[wall][c]; }
+
+  // Each wall's force and torque set to its totals, rounded once.
+  void store(std::vector<Wall<D>>& walls) const {
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      walls[w].force = force(w);
+      walls[w].torque = torque(w);
+    }
+  }
 
   Vec force(std::size_t wall) const {
     Vec f;
