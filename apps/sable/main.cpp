@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "launch.hpp"
 #include "sable/analysis/analyze.hpp"
 #include "sable/cd/fc_problem.hpp"
 #include "sable/contact/registry.hpp"
@@ -66,11 +67,14 @@ const char* signal_name(int sig) {
   }
 }
 
-int cmd_run(const std::string& file, sable::RunOptions opt) {
+// Under MPI every process runs the scenario (apps/sable/launch.hpp); process 0 reports.
+int cmd_run(const std::string& file, sable::RunOptions opt, const Launch& launch) {
   const sable::ScenarioConfig cfg = sable::load_scenario(file);
   install_signal_handlers();
   opt.stop = &g_stop_signal;
+  opt.domains = launch.domains();
   const sable::RunResult r = sable::run_scenario(cfg, opt);
+  if (launch.rank() != 0) return r.interrupted_by != 0 ? 128 + r.interrupted_by : 0;
   if (r.interrupted_by != 0) {
     std::cerr << fmt::format(
         "interrupted by {} at step {} (t = {:.6g} s), state hash {:016x}{}\n",
@@ -85,9 +89,11 @@ int cmd_run(const std::string& file, sable::RunOptions opt) {
   getrusage(RUSAGE_SELF, &usage);
   std::cerr << fmt::format(
       "done: {} grains, {} steps, t = {:.6g} s, kinetic energy {:.4g} J, {:.1f} s wall time, "
-      "peak memory {:.1f} MiB, state hash {:016x}\n",
+      "peak memory {:.1f} MiB{}, state hash {:016x}\n",
       r.grains, r.steps, r.time, r.kinetic_energy, r.wall_seconds,
-      static_cast<double>(usage.ru_maxrss) / 1024.0, r.state_hash);
+      static_cast<double>(usage.ru_maxrss) / 1024.0,
+      launch.size() > 1 ? fmt::format(" (process 0 of {})", launch.size()) : std::string(),
+      r.state_hash);
   return 0;
 }
 
@@ -292,7 +298,37 @@ CLI::Validator non_negative(const std::string& what) {
 
 }  // namespace
 
+// Runs the command, turning an error into its message and exit status. Under MPI a process's
+// error ends every process (the others would wait for it at their next exchange).
+template <class F>
+int guarded(const Launch& launch, F&& command) {
+  std::string text;
+  int code = 0;
+  try {
+    return command();
+  } catch (const sable::InputError& e) {
+    text = fmt::format("error: {}", e.what());
+    code = kExitInput;
+  } catch (const sable::SimulationError& e) {
+    text = fmt::format("simulation failed: {}", e.what());
+    code = kExitFailed;
+  } catch (const sable::IoError& e) {
+    text = fmt::format("error: cannot write output: {}", e.what());
+    code = kExitIo;
+  } catch (const std::bad_alloc&) {
+    text = "error: out of memory";
+    code = kExitFailed;
+  } catch (const std::exception& e) {
+    text = fmt::format("error: {}", e.what());
+    code = kExitInput;
+  }
+  std::cerr << launch.prefix() << text << '\n' << std::flush;
+  if (launch.size() > 1) launch.abort(code);
+  return code;
+}
+
 int main(int argc, char** argv) {
+  Launch launch(argc, argv);
   CLI::App app{"Sable: grain-scale simulation of granular media (DEM and contact dynamics)"};
   app.set_version_flag("--version", version_text());
   app.require_subcommand(1);
@@ -356,28 +392,13 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : kExitInput;
   }
-  try {
-    if (*run) return cmd_run(file, opt);
+  return guarded(launch, [&] {
+    if (*run) return cmd_run(file, opt, launch);
     if (*check) return cmd_check(file);
     if (*info) return cmd_info(file);
     if (*analyze) return cmd_analyze(analyze_opt);
     if (*models) return cmd_models();
     if (*fc3d) return cmd_fc3d(file, fc3d_opt);
-  } catch (const sable::InputError& e) {
-    std::cerr << "error: " << e.what() << '\n';
-    return kExitInput;
-  } catch (const sable::SimulationError& e) {
-    std::cerr << "simulation failed: " << e.what() << '\n';
-    return kExitFailed;
-  } catch (const sable::IoError& e) {
-    std::cerr << "error: cannot write output: " << e.what() << '\n';
-    return kExitIo;
-  } catch (const std::bad_alloc&) {
-    std::cerr << "error: out of memory\n";
-    return kExitFailed;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << '\n';
-    return kExitInput;
-  }
-  return 0;
+    return 0;
+  });
 }

@@ -1,9 +1,11 @@
 // The promise of the MPI decomposition (world/domain.hpp): the same bits as a serial run for
-// any number of processes. Run as `mpirun -np N sable_mpi_dem_check SCENARIO STEPS [RECUT]`:
+// any number of processes. Run as
+// `mpirun -np N sable_mpi_dem_check SCENARIO STEPS [BIAS [STAGE [SNAPSHOT]]]`:
 // every process builds the scenario's world; process 0 also steps a serial copy with the
 // plain DemSolver; the decomposed run steps STEPS steps of its first stage's physics (no
 // stage rules; the wall velocities and rotations of stage STAGE, counted from 0, default 0),
-// then the whole state is gathered on process 0 and both state hashes are compared. BIAS
+// then the whole state is gathered on process 0 and both state hashes are compared. With
+// SNAPSHOT, both runs resume from it (every process loads it whole, then keeps its share). BIAS
 // (default 1) makes every cut lopsided (mpi/rcb.hpp). Exit 0 when the hashes
 // are equal (on every process), 1 when not, 2 on bad arguments.
 #include <mpi.h>
@@ -14,6 +16,7 @@
 #include <string>
 
 #include "sable/dem/dem_solver.hpp"
+#include "sable/io/snapshot.hpp"
 #include "sable/mpi/mpi_domain.hpp"
 #include "sable/scenario/build.hpp"
 #include "sable/scenario/config.hpp"
@@ -71,13 +74,36 @@ void compare(const sable::World<D>& a, const sable::World<D>& b) {
               b.neighbors.wall_pairs.size());
   for (std::size_t w = 0; w < a.walls.size(); ++w)
     if (a.walls[w].force != b.walls[w].force) std::printf("  wall %zu's force differs\n", w);
+  // The rest of what state_hash() covers, part by part.
+  const auto& na = a.neighbors;
+  const auto& nb = b.neighbors;
+  const std::pair<const char*, bool> parts[] = {
+      {"id slots", p.ids.slots() == q.ids.slots()},
+      {"id generations", p.ids.generations() == q.ids.generations()},
+      {"id free list", p.ids.free_list() == q.ids.free_list()},
+      {"pair forces", na.pairs.force == nb.pairs.force},
+      {"wall-pair grains", na.wall_pairs.i == nb.wall_pairs.i},
+      {"wall-pair histories", na.wall_pairs.shear == nb.wall_pairs.shear},
+      {"wall-pair forces", na.wall_pairs.force == nb.wall_pairs.force},
+      {"x_ref", na.x_ref == nb.x_ref},
+      {"wall_ref", na.wall_ref == nb.wall_ref},
+      {"skin and domain",
+       na.skin == nb.skin && na.domain_lo == nb.domain_lo && na.domain_hi == nb.domain_hi},
+      {"clock and generator",
+       a.time == b.time && a.step == b.step && a.dt == b.dt && a.rng.state() == b.rng.state()}};
+  for (const auto& [name, same] : parts)
+    if (!same) std::printf("  %s differ\n", name);
 }
 
 template <int D>
-int check(const sable::ScenarioConfig& cfg, int steps, double bias, std::size_t stage, int rank) {
+int check(const sable::ScenarioConfig& cfg, int steps, double bias, std::size_t stage,
+          const char* snapshot, int rank) {
   sable::World<D> world;
   sable::build_model(cfg, world);
-  sable::build_grains(cfg, world);
+  if (snapshot)
+    sable::load_snapshot(snapshot, world);
+  else
+    sable::build_grains(cfg, world);
   if (stage < cfg.stages.size()) {  // the stage's wall motions, as the runner sets them
     for (const auto& [name, vel] : cfg.stages[stage].wall_velocity)
       for (std::size_t k : sable::walls_named(world, name))
@@ -93,7 +119,7 @@ int check(const sable::ScenarioConfig& cfg, int steps, double bias, std::size_t 
   if (rank == 0) {
     ref = world;
     sable::DemSolver<D> solver(ref);
-    solver.initialize();
+    if (!snapshot) solver.initialize();
     for (int s = 0; s < steps; ++s) solver.step();
     serial = sable::state_hash(ref);
   }
@@ -102,13 +128,22 @@ int check(const sable::ScenarioConfig& cfg, int steps, double bias, std::size_t 
   domain.scatter(world);
   sable::DemSolver<D> solver(world);
   solver.set_domain(&domain);
-  solver.initialize();
+  if (!snapshot) solver.initialize();
   for (int s = 0; s < steps; ++s) solver.step();
   // How many grains this process owns and how many ghosts it holds, at the end.
   std::size_t ghosts = 0;
   for (std::uint8_t f : world.particles.flags) ghosts += (f & sable::kGhost) ? 1 : 0;
-  std::printf("process %d: %zu grains owned, %zu ghosts\n", rank, world.particles.size() - ghosts,
-              ghosts);
+  // And what it sent (the scaling model's inputs, docs/BENCHMARKS.md).
+  const auto& t = domain.traffic();
+  const double steps_done = static_cast<double>(std::max<std::uint64_t>(t.steps, 1));
+  const double builds = static_cast<double>(std::max<std::uint64_t>(t.builds, 1));
+  std::printf(
+      "process %d: %zu grains owned, %zu ghosts; a step: %.0f bytes in %.2f messages; a list "
+      "build: %.0f bytes in %.2f messages (%llu builds)\n",
+      rank, world.particles.size() - ghosts, ghosts, static_cast<double>(t.step_bytes) / steps_done,
+      static_cast<double>(t.step_messages) / steps_done,
+      static_cast<double>(t.build_bytes) / builds, static_cast<double>(t.build_messages) / builds,
+      static_cast<unsigned long long>(t.builds));
   sable::World<D> whole;
   domain.gather(world, whole, 0);
   int same = 1;
@@ -134,20 +169,22 @@ int main(int argc, char** argv) {
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   int rc = 2;
-  if (argc >= 3 && argc <= 5) {
+  if (argc >= 3 && argc <= 6) {
     try {
       const sable::ScenarioConfig cfg = sable::load_scenario(argv[1]);
       const int steps = std::atoi(argv[2]);
       const double bias = argc >= 4 ? std::atof(argv[3]) : 1.0;
-      const auto stage = static_cast<std::size_t>(argc == 5 ? std::atoi(argv[4]) : 0);
-      rc = cfg.sim.dimension == 2 ? check<2>(cfg, steps, bias, stage, rank)
-                                  : check<3>(cfg, steps, bias, stage, rank);
+      const auto stage = static_cast<std::size_t>(argc >= 5 ? std::atoi(argv[4]) : 0);
+      const char* snapshot = argc == 6 ? argv[5] : nullptr;
+      rc = cfg.sim.dimension == 2 ? check<2>(cfg, steps, bias, stage, snapshot, rank)
+                                  : check<3>(cfg, steps, bias, stage, snapshot, rank);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "process %d: %s\n", rank, e.what());
       MPI_Abort(MPI_COMM_WORLD, 1);
     }
   } else if (rank == 0) {
-    std::fprintf(stderr, "usage: mpirun -np N %s SCENARIO STEPS [BIAS [STAGE]]\n", argv[0]);
+    std::fprintf(stderr, "usage: mpirun -np N %s SCENARIO STEPS [BIAS [STAGE [SNAPSHOT]]]\n",
+                 argv[0]);
   }
   MPI_Finalize();
   return rc;

@@ -51,7 +51,8 @@ double wall_normal_stress(const World<D>& w, std::size_t k) {
 }
 
 template <int D>
-void servo_walls(World<D>& w, const std::vector<ServoTarget>& targets, const ServoSettings& s) {
+void servo_walls(World<D>& w, const std::vector<ServoTarget>& targets, const ServoSettings& s,
+                 const Domain<D>* domain) {
   double gain = s.gain;
   if (gain <= 0.0) {
     double top = 0.0;
@@ -63,11 +64,15 @@ void servo_walls(World<D>& w, const std::vector<ServoTarget>& targets, const Ser
           "scale a zero target refers to (stress_scale)");
     gain = top > 0.0 ? s.max_velocity / top : 0.0;
   }
+  std::vector<char> targeted(w.walls.size(), 0);
+  for (const auto& t : targets) targeted[t.wall] = 1;
+  std::vector<ExactSum> response(2 * w.walls.size());
+  add_wall_responses(w, response.data(), [&](std::size_t k) { return targeted[k] != 0; });
+  if (domain) domain->sum(response.data(), static_cast<int>(response.size()));
   for (const auto& t : targets) {
     const double area = wall_area(w, t.wall);
     const double error = -w.walls[t.wall].force.dot(w.walls[t.wall].normal()) / area - t.stress;
-    const WallResponse r = wall_response(w, t.wall);
-    const double resist = r.stiffness * w.dt + r.damping;
+    const double resist = response[2 * t.wall].value() * w.dt + response[2 * t.wall + 1].value();
     const double g = resist > 0.0 ? std::min(gain, 0.5 * area / resist) : gain;
     const double speed = std::clamp(g * error, -s.max_velocity, s.max_velocity);
     w.walls[t.wall].velocity = -speed * w.walls[t.wall].normal();
@@ -123,7 +128,8 @@ double servo_error(const World<D>& w, const std::vector<ServoTarget>& targets,
 #define SABLE_SERVO(D)                                                                         \
   template double wall_area(const World<D>&, std::size_t);                                     \
   template double wall_normal_stress(const World<D>&, std::size_t);                            \
-  template void servo_walls(World<D>&, const std::vector<ServoTarget>&, const ServoSettings&); \
+  template void servo_walls(World<D>&, const std::vector<ServoTarget>&, const ServoSettings&,  \
+                            const Domain<D>*);                                                 \
   template std::vector<WallBody> wall_bodies(const World<D>&, const std::vector<ServoTarget>&, \
                                              const ServoSettings&);                            \
   template double servo_error(const World<D>&, const std::vector<ServoTarget>&, double);

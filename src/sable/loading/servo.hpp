@@ -51,6 +51,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "sable/core/exact_sum.hpp"
+#include "sable/world/domain.hpp"
 #include "sable/world/solver.hpp"
 #include "sable/world/world.hpp"
 
@@ -85,32 +87,44 @@ struct WallResponse {
   double stiffness = 0.0, damping = 0.0;
 };
 // The law's terms come from its row of the table (contact/law_table.hpp): tangent_stiffness()
-// and the dashpot of coeffs().
-template <class Laws = NormalLaws, int D>
-WallResponse wall_response(const World<D>& w, std::size_t wall) {
-  return Laws::visit(w.model.normal, [&]<class Law>() {
+// and the dashpot of coeffs(). Summed exactly (core/exact_sum.hpp) over the contacts of the
+// grains this process steps (not its ghosts'), so that the sum over processes is the serial
+// run's to the bit: sums[2 w] the stiffness and sums[2 w + 1] the damping of walls[w] for
+// each w with want(w).
+template <class Laws = NormalLaws, int D, class Want>
+void add_wall_responses(const World<D>& w, ExactSum* sums, Want&& want) {
+  Laws::visit(w.model.normal, [&]<class Law>() {
     const auto& p = w.particles;
     const auto& wl = w.neighbors.wall_pairs;
-    const Wall<D>& plane = w.walls[wall];
-    WallResponse r;
     for (std::size_t c = 0; c < wl.size(); ++c) {
-      if (wl.wall[c] != wall) continue;
       const std::uint32_t i = wl.i[c];
+      if (!want(wl.wall[c]) || (p.flags[i] & kGhost)) continue;
+      const Wall<D>& plane = w.walls[wl.wall[c]];
       typename Space<D>::Vec n;
       const double delta = p.radius[i] - plane.distance(p.x[i], n);
       if (delta <= 0.0) continue;
       const PairParams& pp = w.materials.pair(p.material[i], plane.material);
-      r.stiffness += Law::tangent_stiffness(pp, w.model, delta, p.radius[i]);
-      r.damping += std::abs(Law::coeffs(pp, w.model, delta, p.radius[i], p.mass[i]).gn);
+      sums[2 * wl.wall[c]].add(Law::tangent_stiffness(pp, w.model, delta, p.radius[i]));
+      sums[2 * wl.wall[c] + 1].add(
+          std::abs(Law::coeffs(pp, w.model, delta, p.radius[i], p.mass[i]).gn));
     }
-    return r;
   });
+}
+
+// One wall's response, in a serial run.
+template <class Laws = NormalLaws, int D>
+WallResponse wall_response(const World<D>& w, std::size_t wall) {
+  std::vector<ExactSum> sums(2 * w.walls.size());
+  add_wall_responses<Laws>(w, sums.data(), [wall](std::size_t k) { return k == wall; });
+  return {sums[2 * wall].value(), sums[2 * wall + 1].value()};
 }
 
 // Set the velocity of every targeted wall from its measured stress. Throws InputError when
 // every target is 0 and neither gain nor zero_target_scale is set (the walls could not move).
+// Under MPI (`domain`) the walls' responses are summed over every process.
 template <int D>
-void servo_walls(World<D>& w, const std::vector<ServoTarget>& targets, const ServoSettings& s);
+void servo_walls(World<D>& w, const std::vector<ServoTarget>& targets, const ServoSettings& s,
+                 const Domain<D>* domain = nullptr);
 
 // Contact dynamics: the targeted walls as bodies under F = target * A, with the mass of the
 // rule above. Throws InputError for a wall without an area (wall_area) or a mass of 0 (no

@@ -12,7 +12,12 @@ namespace {
 // Sends out[r] to process r and returns what every process sent to this one, in rank order;
 // from[r]: the bytes that came from r.
 std::vector<char> all_to_all(MPI_Comm comm, const std::vector<std::vector<char>>& out,
-                             std::vector<int>* from = nullptr) {
+                             std::vector<int>* from = nullptr, std::uint64_t* bytes = nullptr,
+                             std::uint64_t* messages = nullptr) {
+  for (const auto& o : out) {
+    if (bytes) *bytes += o.size();
+    if (messages) *messages += o.empty() ? 0 : 1;
+  }
   const int size = static_cast<int>(out.size());
   std::vector<int> send(size), recv(size), sdisp(size + 1, 0), rdisp(size + 1, 0);
   for (int r = 0; r < size; ++r) send[r] = static_cast<int>(out[r].size());
@@ -67,6 +72,23 @@ void MpiDomain<D>::reduce(WallTotals<D>& totals) const {
     }
 }
 
+template <int D>
+void MpiDomain<D>::sum(ExactSum* sums, int n) const {
+  constexpr int kPacked = ExactSum::kPacked;
+  std::vector<std::int64_t> flat(static_cast<std::size_t>(n) * kPacked);
+  for (int k = 0; k < n; ++k) {
+    const auto packed = sums[k].packed();
+    std::copy(packed.begin(), packed.end(), flat.begin() + k * kPacked);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, flat.data(), static_cast<int>(flat.size()), MPI_INT64_T, MPI_SUM,
+                comm_);
+  for (int k = 0; k < n; ++k) {
+    std::array<std::int64_t, kPacked> packed;
+    std::copy_n(flat.begin() + k * kPacked, kPacked, packed.begin());
+    sums[k] = ExactSum::from_packed(packed);
+  }
+}
+
 // The cuts from this process's owned grains (every grain counted once over the processes).
 template <int D>
 void MpiDomain<D>::cut(const World<D>& w) {
@@ -111,15 +133,19 @@ void MpiDomain<D>::redistribute(World<D>& w) {
   for (std::size_t e = 0; e < wl.size(); ++e)
     if (leaving(wl.i[e]))
       mpi_records::put_wall_pair(walls[static_cast<std::size_t>(dest[wl.i[e]])], w, e);
-  std::vector<char> arrivals = all_to_all(comm_, grains);
-  std::vector<char> arrived_pairs = all_to_all(comm_, pairs);
-  std::vector<char> arrived_walls = all_to_all(comm_, walls);
+  ++traffic_.builds;
+  std::uint64_t* bytes = &traffic_.build_bytes;
+  std::uint64_t* messages = &traffic_.build_messages;
+  std::vector<char> arrivals = all_to_all(comm_, grains, nullptr, bytes, messages);
+  std::vector<char> arrived_pairs = all_to_all(comm_, pairs, nullptr, bytes, messages);
+  std::vector<char> arrived_walls = all_to_all(comm_, walls, nullptr, bytes, messages);
 
   // What stays: the grains this process still owns, their lists' entries (those of pairs
   // with an owned member), then the arrivals and their entries.
   mpi_records::LocalState<D> local =
       mpi_records::extract(w, [&](std::uint32_t k) { return dest[k] == rank_; });
   mpi_records::read_grains(arrivals, local.particles, false);
+  local.x_ref.clear();  // a build follows: its positions become the reference
   mpi_records::read_pairs(arrived_pairs, local.pairs);
   mpi_records::read_wall_pairs(arrived_walls, local.wall_pairs);
 
@@ -136,7 +162,7 @@ void MpiDomain<D>::redistribute(World<D>& w) {
       send_ids_[static_cast<std::size_t>(r)].push_back(local.particles.id[k].index);
     });
   std::vector<int> from;
-  std::vector<char> ghost_bytes = all_to_all(comm_, ghosts, &from);
+  std::vector<char> ghost_bytes = all_to_all(comm_, ghosts, &from, bytes, messages);
   const std::size_t owned = local.particles.size();
   mpi_records::read_grains(ghost_bytes, local.particles, true);
   // Which process each ghost came from, in the order they came (rank order).
@@ -180,7 +206,9 @@ void MpiDomain<D>::refresh_ghosts(World<D>& w) {
   for (int r = 0; r < size_; ++r)
     for (std::uint32_t k : send_slots_[static_cast<std::size_t>(r)])
       mpi_records::put_motion(out[static_cast<std::size_t>(r)], p, k);
-  const std::vector<char> in = all_to_all(comm_, out);
+  ++traffic_.steps;
+  const std::vector<char> in =
+      all_to_all(comm_, out, nullptr, &traffic_.step_bytes, &traffic_.step_messages);
   const char* at = in.data();
   for (int r = 0; r < size_; ++r)
     for (std::uint32_t k : recv_slots_[static_cast<std::size_t>(r)])
@@ -225,7 +253,7 @@ void MpiDomain<D>::scatter(World<D>& w) {
 }
 
 template <int D>
-void MpiDomain<D>::gather(World<D>& w, World<D>& whole, int root) const {
+void MpiDomain<D>::gather(const World<D>& w, World<D>& whole, int root) const {
   std::vector<char> grains, pairs, walls;
   mpi_records::put_owned(w, grains, pairs, walls);
   auto collect = [&](const std::vector<char>& mine) {

@@ -21,8 +21,8 @@ template <int D>
 class MpiDomain final : public Domain<D> {
  public:
   explicit MpiDomain(MPI_Comm comm);
-  int rank() const { return rank_; }
-  int size() const { return size_; }
+  int rank() const override { return rank_; }
+  int size() const override { return size_; }
 
   bool distributed() const override { return true; }
   void refresh_ghosts(World<D>& w) override;
@@ -31,14 +31,23 @@ class MpiDomain final : public Domain<D> {
   void redistribute(World<D>& w) override;
   void after_build(World<D>& w) override;
   void reduce(WallTotals<D>& totals) const override;
+  void sum(ExactSum* sums, int n) const override;
+  using Domain<D>::sum;
+  void scatter(World<D>& w) override;
+  void gather(const World<D>& w, World<D>& whole) const override { gather(w, whole, 0); }
+  // gather() onto process `root`.
+  void gather(const World<D>& w, World<D>& whole, int root) const;
 
-  // From a World every process built whole (the same scenario, the same bits): keeps this
-  // process's share, as a redistribution with nothing to send would.
-  void scatter(World<D>& w);
-  // The whole state on process `root` (`whole`: a copy of w with every grain, its slots in the
-  // global order and its lists as a serial run holds them); other processes leave `whole`
-  // alone. For state hashes, outputs and snapshots.
-  void gather(World<D>& w, World<D>& whole, int root) const;
+  // What this process sent, since it was made: for the scaling model (docs/BENCHMARKS.md).
+  struct Traffic {
+    std::uint64_t steps = 0;           // ghost refreshes (one a step)
+    std::uint64_t step_bytes = 0;      // bytes sent by them
+    std::uint64_t step_messages = 0;   // non-empty messages sent by them
+    std::uint64_t builds = 0;          // redistributions (one a neighbour-list build)
+    std::uint64_t build_bytes = 0;     // bytes sent by them (migrants, histories, ghosts)
+    std::uint64_t build_messages = 0;  // non-empty messages sent by them
+  };
+  const Traffic& traffic() const { return traffic_; }
 
   // Tests: cut lopsided (the lower half of each cut takes `bias` times its share), which must
   // change no result.
@@ -67,6 +76,7 @@ class MpiDomain final : public Domain<D> {
   // Per process: the ids of the grains this one sends as ghosts / receives as ghosts (from
   // redistribute), then their slots (after_build), in slot order.
   std::vector<std::vector<std::uint32_t>> send_ids_, recv_ids_, send_slots_, recv_slots_;
+  Traffic traffic_;
 };
 
 }  // namespace sable

@@ -150,6 +150,11 @@ LocalState<D> extract(const World<D>& w, const std::function<bool(std::uint32_t)
   for (std::uint32_t k = 0; k < p.size(); ++k)
     if (keep(k)) put_grain(bytes, p, k);
   read_grains(bytes, s.particles, false);  // as owned: scatter() marks its ghosts after
+  // The list's reference positions, when it has them (a resumed world: the next rebuild
+  // comes when it would have come in the serial run).
+  if (w.neighbors.x_ref.size() == p.size())
+    for (std::uint32_t k = 0; k < p.size(); ++k)
+      if (keep(k)) s.x_ref.push_back(w.neighbors.x_ref[k]);
   const auto& pl = w.neighbors.pairs;
   for (std::size_t e = 0; e < pl.size(); ++e)
     if (keep(pl.i[e]) || keep(pl.j[e])) s.pairs.push_back(pair_record(w, e));

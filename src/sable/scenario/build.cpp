@@ -294,8 +294,28 @@ std::vector<std::size_t> walls_named(const World<D>& w, const std::string& key) 
 }
 
 template <int D>
-std::unique_ptr<Solver> make_solver(const ScenarioConfig& cfg, World<D>& world) {
-  if (cfg.sim.solver != "cd") return std::make_unique<DemSolver<D>>(world);
+std::unique_ptr<Solver> make_solver(const ScenarioConfig& cfg, World<D>& world, Domain<D>* domain) {
+  if (domain && domain->distributed()) {
+    if (cfg.sim.solver == "cd")
+      throw InputError(fmt::format(
+          "{}: [simulation] solver = \"cd\": contact dynamics does not run on several MPI "
+          "processes yet (its Gauss-Seidel sweep is sequential; docs/ARCHITECTURE.md, "
+          "\"Domain decomposition\"): run it on one process, with --threads for a coloured "
+          "sweep",
+          cfg.path));
+    for (const auto& st : cfg.stages)
+      if (st.water_content)
+        throw InputError(fmt::format(
+            "{}: stage '{}' sets water_content: capillary bridges do not run on several MPI "
+            "processes yet (docs/ARCHITECTURE.md, \"Domain decomposition\"): run it on one "
+            "process",
+            cfg.path, st.name));
+  }
+  if (cfg.sim.solver != "cd") {
+    auto dem = std::make_unique<DemSolver<D>>(world);
+    dem->set_domain(domain);
+    return dem;
+  }
   const CdConfig& c = cfg.cd;
   CdSettings s;
   s.theta = c.theta;
@@ -317,8 +337,8 @@ std::unique_ptr<Solver> make_solver(const ScenarioConfig& cfg, World<D>& world) 
   return std::make_unique<CdSolver<D>>(world, s);
 }
 
-template std::unique_ptr<Solver> make_solver<2>(const ScenarioConfig&, World<2>&);
-template std::unique_ptr<Solver> make_solver<3>(const ScenarioConfig&, World<3>&);
+template std::unique_ptr<Solver> make_solver<2>(const ScenarioConfig&, World<2>&, Domain<2>*);
+template std::unique_ptr<Solver> make_solver<3>(const ScenarioConfig&, World<3>&, Domain<3>*);
 template void build_model<2>(const ScenarioConfig&, World<2>&);
 template void build_model<3>(const ScenarioConfig&, World<3>&);
 template void build_grains<2>(const ScenarioConfig&, World<2>&);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "sable/scenario/config.hpp"
+#include "sable/world/domain.hpp"
 #include "sable/world/solver.hpp"
 #include "sable/world/world.hpp"
 
@@ -45,8 +46,11 @@ double scenario_skin(const ScenarioConfig& cfg, const World<D>& world);
 template <int D>
 std::vector<std::size_t> walls_named(const World<D>& world, const std::string& key);
 
-// The time stepper the scenario asks for (simulation.solver), bound to `world`.
+// The time stepper the scenario asks for (simulation.solver), bound to `world`, stepping the
+// grains of `domain` (null: all of them, a serial run). Contact dynamics and wet stages are
+// not decomposed: a distributed domain refuses them (InputError naming the key).
 template <int D>
-std::unique_ptr<Solver> make_solver(const ScenarioConfig& cfg, World<D>& world);
+std::unique_ptr<Solver> make_solver(const ScenarioConfig& cfg, World<D>& world,
+                                    Domain<D>* domain = nullptr);
 
 }  // namespace sable

@@ -50,6 +50,24 @@ std::string box_text(const World<D>& w, const std::optional<BoxState<D>>& ref) {
       fmt::join(eps.data(), eps.data() + D, ", "), b->solid_fraction);
 }
 
+// The contacts carrying a force: grain pairs and grain-wall pairs, as the lists hold them.
+struct TouchingContacts {
+  std::size_t pairs = 0, walls = 0;
+  std::size_t total() const { return pairs + walls; }
+  // Contacts per grain, a wall contact counted once.
+  double coordination(double grains) const {
+    return (2.0 * static_cast<double>(pairs) + static_cast<double>(walls)) / grains;
+  }
+};
+
+template <int D>
+TouchingContacts touching_contacts(const World<D>& w) {
+  TouchingContacts t;
+  for (const auto& f : w.neighbors.pairs.force) t.pairs += f.squaredNorm() > 0.0 ? 1 : 0;
+  for (const auto& f : w.neighbors.wall_pairs.force) t.walls += f.squaredNorm() > 0.0 ? 1 : 0;
+  return t;
+}
+
 }  // namespace
 
 template <int D>
@@ -57,9 +75,13 @@ Simulation<D>::Simulation(ScenarioConfig cfg, const RunOptions& opt)
     : cfg_(std::move(cfg)),
       opt_(opt),
       out_(opt.out_dir.empty() ? cfg_.output.dir : opt.out_dir),
-      progress_(*opt.log, opt.live_progress.value_or(isatty(STDERR_FILENO) == 1),
+      domain_(opt.domains ? opt.domains->make<D>() : std::make_unique<Domain<D>>()),
+      // Under MPI process 0 alone logs, one line per report (the others' clocks would disagree
+      // on when a live line is due).
+      progress_(root() ? *opt.log : quiet_,
+                !domain_->distributed() && opt.live_progress.value_or(isatty(STDERR_FILENO) == 1),
                 cfg_.output.log_interval),
-      solver_(make_solver(cfg_, world_)),
+      solver_(make_solver(cfg_, world_, domain_.get())),
       box_ref_(scenario_box<D>(cfg_)) {}
 
 template <int D>
@@ -75,13 +97,15 @@ void Simulation<D>::save(const std::string& path) const {
 // path relative to the sidecar's folder.
 template <int D>
 void Simulation<D>::save(const fs::path& path, const fs::path& sidecar) const {
+  const World<D>& w = whole();
+  if (!root()) return;
   std::error_code ec;
   const fs::path scenario = fs::absolute(cfg_.path, ec);
-  save_snapshot(world_, pos_, cfg_.text, path.string(), ec ? std::string() : scenario.string());
+  save_snapshot(w, pos_, cfg_.text, path.string(), ec ? std::string() : scenario.string());
   const fs::path folder = sidecar.parent_path().empty() ? fs::path(".") : sidecar.parent_path();
   const fs::path relative = fs::relative(path, folder, ec);
   write_xdmf({(ec || relative.empty() ? fs::absolute(path) : relative).generic_string(), D,
-              world_.particles.size(), world_.time},
+              w.particles.size(), w.time},
              sidecar.string());
 }
 
@@ -91,7 +115,6 @@ void Simulation<D>::setup() {
   build_model(cfg_, world_);
   if (opt_.resume.empty()) {
     build_grains(cfg_, world_);
-    solver_->initialize();
   } else {
     std::string text;
     pos_ = load_snapshot(opt_.resume, world_, &text);
@@ -101,7 +124,14 @@ void Simulation<D>::setup() {
     if (text != cfg_.text) check_changes(text);
     adopt_scenario_steps();
   }
-  if (const auto w = check_time_step(cfg_, world_)) progress_.message("warning: " + *w);
+  const auto dt_warning = check_time_step(cfg_, world_);
+  // Under MPI each process keeps its share of the whole world it built or loaded; a rebuild
+  // the resume asked for (adopt_scenario_steps) stays asked for.
+  const bool rebuild = world_.neighbors.x_ref.empty();
+  domain_->scatter(world_);
+  if (rebuild) world_.neighbors.x_ref.clear();
+  if (opt_.resume.empty()) solver_->initialize();
+  if (dt_warning) progress_.message("warning: " + *dt_warning);
   if (opt_.write_outputs) open_outputs(!opt_.resume.empty());
 }
 
@@ -155,6 +185,11 @@ void Simulation<D>::adopt_scenario_steps() {
 
 template <int D>
 void Simulation<D>::open_outputs(bool resuming) {
+  if (!root()) {
+    if (!resuming) write_frame();  // collective: process 0 gathers the grains
+    if (!resuming) write_csv_row();
+    return;
+  }
   OutputFolderRequest req{out_.string(), std::nullopt, opt_.resume, opt_.overwrite};
   if (resuming) req.resume_step = world_.step;
   prepare_output_folder(req, [this](const std::string& m) { progress_.message(m); });
@@ -215,15 +250,17 @@ void Simulation<D>::open_outputs(bool resuming) {
 template <int D>
 ProgressSample Simulation<D>::sample() const {
   const StageConfig& st = cfg_.stages[pos_.stage];
+  const World<D>& w = whole();
   ProgressSample s;
   s.stage = st.name.empty() ? fmt::format("stage {}", pos_.stage + 1) : st.name;
-  s.step = world_.step;
+  s.step = w.step;
   s.stage_step = pos_.stage_step;
   s.stage_total = st.steps ? *st.steps : st.max_steps;
-  s.time = world_.time;
-  s.kinetic_energy = kinetic_energy(world_);
-  s.contacts = solver_->diagnostics().touching;
-  s.grains = world_.particles.size();
+  s.time = w.time;
+  s.kinetic_energy = kinetic_energy(w);
+  s.contacts =
+      domain_->distributed() ? touching_contacts(w).total() : solver_->diagnostics().touching;
+  s.grains = w.particles.size();
   return s;
 }
 
@@ -277,7 +314,7 @@ bool Simulation<D>::stage_done() {
   if (st.steps) return pos_.stage_step >= *st.steps;
   // Never at the stage's first step: grains placed at rest would end a settling stage at once.
   if (pos_.stage_step > 0 && pos_.stage_step % st.check_interval == 0 &&
-      kinetic_energy(world_, st.translation_only) < *st.kinetic_energy_below &&
+      kinetic_energy(world_, *domain_, st.translation_only) < *st.kinetic_energy_below &&
       (!st.stress_tolerance ||
        servo_error(world_, servo_, st.stress_scale) <= *st.stress_tolerance))
     return true;
@@ -285,13 +322,13 @@ bool Simulation<D>::stage_done() {
     progress_.message(fmt::format(
         "warning: stage '{}' reached max_steps = {} before equilibrium: kinetic energy {:.4g} J "
         "(kinetic_energy_below = {:.4g} J){}{}",
-        st.name, st.max_steps, kinetic_energy(world_, st.translation_only),
+        st.name, st.max_steps, kinetic_energy(world_, *domain_, st.translation_only),
         *st.kinetic_energy_below,
         st.stress_tolerance
             ? fmt::format(", wall stress error {:.3g} (stress_tolerance = {:.3g})",
                           servo_error(world_, servo_, st.stress_scale), *st.stress_tolerance)
             : std::string(),
-        box_text(world_, box_ref_)));
+        box_text(whole(), box_ref_)));
     return true;
   }
   return false;
@@ -302,12 +339,12 @@ void Simulation<D>::after_step() {
   const auto step = world_.step;
   const auto& o = cfg_.output;
   const auto& diag = solver_->diagnostics();
-  if (!warned_overlap_ && diag.max_overlap_ratio > world_.overlap_warning) {
+  if (!warned_overlap_ && max_overlap_ > world_.overlap_warning) {
     warned_overlap_ = true;
     progress_.message(fmt::format(
         "warning: step {}: an overlap reached {:.3g} of the grain radius (overlap_warning = "
         "{:.3g}); the grains may be too soft or the time step too large",
-        step, diag.max_overlap_ratio, world_.overlap_warning));
+        step, max_overlap_, world_.overlap_warning));
   }
   if (!warned_unconverged_ && !diag.converged) {
     warned_unconverged_ = true;
@@ -326,17 +363,19 @@ void Simulation<D>::after_step() {
 
 template <int D>
 void Simulation<D>::write_frame() {
-  const std::string stem = fmt::format("{:010d}.vtp", world_.step);
+  const World<D>& w = whole();
+  if (!root()) return;
+  const std::string stem = fmt::format("{:010d}.vtp", w.step);
   const VtkEncoding format = cfg_.output.vtk_format;
-  write_grains_vtp(world_, (out_ / "vtk" / ("grains_" + stem)).string(), format);
-  grains_pvd_->add(world_.time, "vtk/grains_" + stem);
+  write_grains_vtp(w, (out_ / "vtk" / ("grains_" + stem)).string(), format);
+  grains_pvd_->add(w.time, "vtk/grains_" + stem);
   if (cfg_.output.vtk_contacts) {
-    write_contacts_vtp(world_, (out_ / "vtk" / ("contacts_" + stem)).string(), format);
-    contacts_pvd_->add(world_.time, "vtk/contacts_" + stem);
+    write_contacts_vtp(w, (out_ / "vtk" / ("contacts_" + stem)).string(), format);
+    contacts_pvd_->add(w.time, "vtk/contacts_" + stem);
   }
-  if (cfg_.output.vtk_walls && !world_.walls.empty()) {
-    write_walls_vtp(world_, (out_ / "vtk" / ("walls_" + stem)).string(), format);
-    walls_pvd_->add(world_.time, "vtk/walls_" + stem);
+  if (cfg_.output.vtk_walls && !w.walls.empty()) {
+    write_walls_vtp(w, (out_ / "vtk" / ("walls_" + stem)).string(), format);
+    walls_pvd_->add(w.time, "vtk/walls_" + stem);
   }
 }
 
@@ -347,19 +386,15 @@ void Simulation<D>::write_snapshot(const std::string& file) {
 
 template <int D>
 void Simulation<D>::write_csv_row() {
-  const auto& nl = world_.neighbors;
-  std::size_t pairs = 0, walls = 0;
-  for (const auto& f : nl.pairs.force) pairs += f.squaredNorm() > 0.0 ? 1 : 0;
-  for (const auto& f : nl.wall_pairs.force) walls += f.squaredNorm() > 0.0 ? 1 : 0;
-  const double n = static_cast<double>(std::max<std::size_t>(world_.particles.size(), 1));
-  std::vector<double> row{static_cast<double>(world_.step),
-                          world_.time,
-                          kinetic_energy(world_),
-                          static_cast<double>(pairs + walls),
-                          (2.0 * static_cast<double>(pairs) + static_cast<double>(walls)) / n,
-                          solver_->diagnostics().max_overlap_ratio};
+  const World<D>& w = whole();
+  if (!root()) return;
+  const TouchingContacts touching = touching_contacts(w);
+  const double n = static_cast<double>(std::max<std::size_t>(w.particles.size(), 1));
+  std::vector<double> row{static_cast<double>(w.step), w.time,
+                          kinetic_energy(w),           static_cast<double>(touching.total()),
+                          touching.coordination(n),    max_overlap_};
   solver_->diagnostic_values(row);
-  for (const auto& wall : world_.walls) {
+  for (const auto& wall : w.walls) {
     for (int d = 0; d < D; ++d) row.push_back(wall.force[d]);
     if constexpr (D == 3)
       row.insert(row.end(), {wall.torque.x(), wall.torque.y(), wall.torque.z()});
@@ -367,7 +402,7 @@ void Simulation<D>::write_csv_row() {
       row.push_back(wall.torque);
   }
   if (box_ref_) {
-    const auto b = measure_box(world_);  // same walls as the reference: a box too
+    const auto b = measure_box(w);  // same walls as the reference: a box too
     const auto eps = box_strain(*b, *box_ref_);
     for (int d = 0; d < D; ++d) row.insert(row.end(), {b->lo[d], b->hi[d]});
     for (int d = 0; d < D; ++d) row.push_back(b->stress[d]);
@@ -381,9 +416,9 @@ template <int D>
 std::string Simulation<D>::stage_summary(const StageClock& c) const {
   const double secs =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - c.start).count();
-  const auto steps = world_.step - c.step;
-  const double grain_steps =
-      static_cast<double>(steps) * static_cast<double>(world_.particles.size());
+  const World<D>& w = whole();
+  const auto steps = w.step - c.step;
+  const double grain_steps = static_cast<double>(steps) * static_cast<double>(w.particles.size());
   std::string phases;
   double total = 0.0;
   for (int k = 0; k < static_cast<int>(Phase::kCount); ++k)
@@ -399,8 +434,8 @@ std::string Simulation<D>::stage_summary(const StageClock& c) const {
       "stage '{}' done: {} steps in {:.2f} s, {:.4g} grain-steps/s ({}); {} neighbour builds{} "
       "so far{}",
       cfg_.stages[pos_.stage].name, steps, secs, secs > 0 ? grain_steps / secs : 0.0, phases,
-      world_.neighbors.builds, remakes > 0 ? fmt::format(" and {} near-list remakes", remakes) : "",
-      box_text(world_, box_ref_));
+      w.neighbors.builds, remakes > 0 ? fmt::format(" and {} near-list remakes", remakes) : "",
+      box_text(w, box_ref_));
 }
 
 template <int D>
@@ -445,11 +480,55 @@ void Simulation<D>::one_step() {
     if (solver_->moves_wall_bodies())
       solver_->set_wall_bodies(wall_bodies(world_, servo_, s));
     else
-      servo_walls(world_, servo_, s);
+      servo_walls(world_, servo_, s, domain_.get());
   }
-  solver_->step();
+  if (!domain_->distributed()) {
+    solver_->step();
+    max_overlap_ = solver_->diagnostics().max_overlap_ratio;
+  } else {
+    try {
+      solver_->step();
+    } catch (const SimulationError& e) {
+      agree_after_step(&e);
+    }
+    agree_after_step(nullptr);
+  }
   ++pos_.stage_step;
   after_step();
+}
+
+// Under MPI, after each step: the largest overlap, whether a process's grain failed (the
+// step ends with its check, after the step's last exchange, so every process gets here) and
+// whether a process caught a stop signal, agreed by all; a failure throws on every process
+// (the one that saw it says which grain, on its own error output).
+template <int D>
+void Simulation<D>::agree_after_step(const SimulationError* failure) {
+  double m[3] = {solver_->diagnostics().max_overlap_ratio, failure ? 1.0 : 0.0,
+                 opt_.stop ? static_cast<double>(*opt_.stop) : 0.0};
+  domain_->max(m, 3);
+  max_overlap_ = m[0];
+  stop_signal_ = static_cast<int>(m[2]);
+  if (m[1] == 0.0) return;
+  if (failure && !root())
+    std::cerr << fmt::format("process {}: {}\n", domain_->rank(), failure->what());
+  if (failure && root()) throw *failure;
+  throw SimulationError(
+      fmt::format("step {}: a grain's state became unsound on {}", world_.step,
+                  failure ? fmt::format("process {} (its message above)", domain_->rank())
+                          : std::string("another process (its message above)")));
+}
+
+template <int D>
+bool Simulation<D>::stop_requested() const {
+  if (domain_->distributed()) return stop_signal_ != 0;
+  return opt_.stop && *opt_.stop != 0;
+}
+
+template <int D>
+const World<D>& Simulation<D>::whole() const {
+  if (!domain_->distributed()) return world_;
+  domain_->gather(world_, whole_);
+  return whole_;
 }
 
 template <int D>
@@ -483,7 +562,7 @@ template <int D>
 RunResult Simulation<D>::run() {
   start();
   while (advance())
-    if (opt_.stop && *opt_.stop != 0) return interrupted();
+    if (stop_requested()) return interrupted();
   return result();
 }
 
@@ -499,12 +578,13 @@ SimulationError Simulation<D>::crashed(const SimulationError& e) {
 
 template <int D>
 RunResult Simulation<D>::result() const {
+  const World<D>& w = whole();
   RunResult r;
-  r.steps = world_.step;
-  r.time = world_.time;
-  r.state_hash = state_hash(world_);
-  r.grains = world_.particles.size();
-  r.kinetic_energy = kinetic_energy(world_);
+  r.steps = w.step;
+  r.time = w.time;
+  r.state_hash = state_hash(w);
+  r.grains = w.particles.size();
+  r.kinetic_energy = kinetic_energy(w);
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
   return r;
 }
@@ -515,7 +595,7 @@ template <int D>
 RunResult Simulation<D>::interrupted() {
   progress_.finish_line();
   RunResult r = result();
-  r.interrupted_by = static_cast<int>(*opt_.stop);
+  r.interrupted_by = domain_->distributed() ? stop_signal_ : static_cast<int>(*opt_.stop);
   if (opt_.write_outputs) {
     const std::string file = fmt::format("interrupted_step_{:010d}.h5", world_.step);
     write_snapshot(file);

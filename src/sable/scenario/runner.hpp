@@ -10,6 +10,7 @@
 #include <string>
 
 #include "sable/scenario/config.hpp"
+#include "sable/world/domain.hpp"
 
 namespace sable {
 
@@ -26,6 +27,8 @@ struct RunOptions {
   // Set (to a signal number) by a signal handler: the run stops after the current step,
   // writes snapshots/interrupted_step_N.h5 and returns with RunResult::interrupted_by set.
   const volatile std::sig_atomic_t* stop = nullptr;
+  // Under MPI: makes each process's Domain (apps/sable/launch_mpi.cpp); null: a serial run.
+  const DomainMaker* domains = nullptr;
 };
 
 struct RunResult {

@@ -10,6 +10,11 @@
 // holds takes no step. advance() takes exactly one step, leaving the stages that have ended
 // and entering the next first; a stage's end outputs are therefore written when the next
 // step is asked for, or by finish_ended_stage().
+//
+// Under MPI (RunOptions::domains) every process runs this object in step: each builds or
+// loads the whole world, keeps its share (Domain::scatter) and steps it; the decisions
+// (a stage's end, a warning, a stop on a signal or a failed grain) come from global values;
+// outputs gather the whole state on process 0, which alone writes and logs.
 #pragma once
 
 #include <chrono>
@@ -28,6 +33,7 @@
 #include "sable/scenario/config.hpp"
 #include "sable/scenario/progress.hpp"
 #include "sable/scenario/runner.hpp"
+#include "sable/world/domain.hpp"
 #include "sable/world/solver.hpp"
 #include "sable/world/world.hpp"
 
@@ -97,6 +103,12 @@ class Simulation {
   void write_csv_row();
   RunResult interrupted();
   SimulationError crashed(const SimulationError& e);
+  void agree_after_step(const SimulationError* failure);
+  bool stop_requested() const;
+  // The whole state (collective under MPI: every process calls it at the same point, and
+  // only process 0's copy holds every grain); world_ itself in a serial run.
+  const World<D>& whole() const;
+  bool root() const { return domain_->rank() == 0; }
   ProgressSample sample() const;
   // Wall clock and phase timers at the start of a stage, for its summary line.
   struct StageClock {
@@ -114,6 +126,9 @@ class Simulation {
   RunOptions opt_;
   std::filesystem::path out_;
   World<D> world_;
+  std::unique_ptr<Domain<D>> domain_;  // the grains this process steps (a serial run: all)
+  mutable World<D> whole_;             // whole()'s gathered copy, under MPI
+  std::ostream quiet_{nullptr};        // the log of processes other than 0: discards
   ProgressReporter progress_;
   std::unique_ptr<Solver> solver_;
   RunPosition pos_;
@@ -125,6 +140,8 @@ class Simulation {
   double servo_max_velocity_ = 0.0;        // set_wall_stress's, for this stage (0: the stage's)
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
   bool started_ = false;
+  double max_overlap_ = 0.0;  // the last step's largest overlap ratio, over every process
+  int stop_signal_ = 0;       // under MPI: the signal some process caught, agreed by all
   bool warned_overlap_ = false;
   bool warned_unconverged_ = false;
 };

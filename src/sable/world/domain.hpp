@@ -15,7 +15,9 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 
+#include "sable/core/exact_sum.hpp"
 #include "sable/world/wall_totals.hpp"
 #include "sable/world/world.hpp"
 
@@ -27,6 +29,9 @@ class Domain {
   virtual ~Domain() = default;
   // True when the grains are split among processes (some may be ghosts).
   virtual bool distributed() const { return false; }
+  // This process's rank (0: the one that writes the outputs) and the number of processes.
+  virtual int rank() const { return 0; }
+  virtual int size() const { return 1; }
   // After the drift: each ghost gets its owner's x, v, omega and orientation.
   virtual void refresh_ghosts(World<D>& /*w*/) {}
   // Each of values[0 .. n) becomes its largest over every process.
@@ -42,6 +47,42 @@ class Domain {
   virtual void after_build(World<D>& /*w*/) {}
   // Sums the walls' totals over every process (exactly: the same bits on each).
   virtual void reduce(WallTotals<D>& /*totals*/) const {}
+  // Each of sums[0 .. n) becomes the sum of every process's (exactly: the same bits on each).
+  virtual void sum(ExactSum* /*sums*/, int /*n*/) const {}
+  void sum(ExactSum& s) const { sum(&s, 1); }
+
+  // From a World every process built or loaded whole (the same scenario or snapshot, the same
+  // bits): keeps this process's share, as a redistribution with nothing to send would.
+  virtual void scatter(World<D>& /*w*/) {}
+  // Collective: the whole state on process 0 in `whole` (every grain, its slots in the global
+  // order, its lists as a serial run holds them), for outputs, snapshots and state hashes;
+  // the other processes leave `whole` alone.
+  virtual void gather(const World<D>& w, World<D>& whole) const { whole = w; }
+};
+
+// Kinetic energy over every process (world.hpp's kinetic_energy() of this process's own
+// grains, summed exactly): the same bits as a serial run's on every process.
+template <int D>
+double kinetic_energy(const World<D>& w, const Domain<D>& domain, bool translation_only = false) {
+  ExactSum e = kinetic_energy_sum(w, translation_only);
+  domain.sum(e);
+  return e.value();
+}
+
+// Makes the Domain a run's grains are stepped in: a launcher under MPI (apps/sable) hands
+// one to the runner through RunOptions::domains; without one a run is serial.
+class DomainMaker {
+ public:
+  virtual ~DomainMaker() = default;
+  virtual std::unique_ptr<Domain<2>> make2() const = 0;
+  virtual std::unique_ptr<Domain<3>> make3() const = 0;
+  template <int D>
+  std::unique_ptr<Domain<D>> make() const {
+    if constexpr (D == 2)
+      return make2();
+    else
+      return make3();
+  }
 };
 
 }  // namespace sable

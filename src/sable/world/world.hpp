@@ -67,25 +67,31 @@ struct World {
 };
 
 // Translational plus (unless translation_only) rotational kinetic energy (J; per thickness
-// in 2D). Rattlers of a static packing keep spinning (nothing brakes a free rotation), so an
-// equilibrium test may look at translation only.
-// Summed exactly (core/exact_sum.hpp): the same bits in any order of the grains, so for any
-// split of them among threads or processes (a stage's end can hang on this value).
+// in 2D) of the grains this process steps (ghosts, copies of another process's grains, are
+// not counted: world/domain.hpp sums over processes). Rattlers of a static packing keep
+// spinning (nothing brakes a free rotation), so an equilibrium test may look at translation
+// only. Summed exactly (core/exact_sum.hpp): the same bits in any order of the grains, so for
+// any split of them among threads or processes (a stage's end can hang on this value).
 template <int D>
-double kinetic_energy(const World<D>& w, bool translation_only = false) {
+ExactSum kinetic_energy_sum(const World<D>& w, bool translation_only = false) {
   const auto& p = w.particles;
   ExactSum e;
   {
     ExactRun run(e);
     for (std::size_t k = 0; k < p.size(); ++k) {
-      if (p.fixed(k)) continue;
+      if (p.flags[k] & (kFixed | kGhost)) continue;
       run.add(0.5 * p.mass[k] * p.v[k].squaredNorm());
       if (translation_only) continue;
       run.add(0.5 * (p.inv_inertia[k] > 0.0 ? 1.0 / p.inv_inertia[k] : 0.0) *
               Space<D>::rot_norm2(p.omega[k]));
     }
   }
-  return e.value();
+  return e;
+}
+
+template <int D>
+double kinetic_energy(const World<D>& w, bool translation_only = false) {
+  return kinetic_energy_sum(w, translation_only).value();
 }
 
 }  // namespace sable

@@ -1,0 +1,97 @@
+"""`mpirun -np N sable run` against `sable run`: the same state hash, the same series.csv
+byte for byte, snapshots that resume on any number of processes with the serial run's end
+state, and a refusal (exit 2, the key named) for what does not run decomposed.
+
+Usage: run_check.py SABLE MPIEXEC WORKDIR SCENARIO CD_SCENARIO [MORE_SCENARIO ...]
+(each further scenario: its hash and series.csv on 3 processes against the serial run's)
+
+The promise (docs/ARCHITECTURE.md, "Domain decomposition"): one global order of every sum, so
+the bits of a serial run for any number of processes. Every comparison here is exact: a
+single bit apart fails.
+"""
+import filecmp
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+SABLE, MPIEXEC, WORK, SCENARIO, CD_SCENARIO = sys.argv[1:6]
+MORE = sys.argv[6:]
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMP_NUM_THREADS="1")
+failures = []
+
+
+def run(np, args, expect_rc=0):
+    cmd = ([MPIEXEC, "-np", str(np), "--oversubscribe"] if np else []) + [SABLE] + args
+    p = subprocess.run(cmd, env=ENV, capture_output=True, text=True, timeout=600)
+    if p.returncode != expect_rc:
+        sys.exit(f"{' '.join(cmd)}: exit {p.returncode}, expected {expect_rc}\n{p.stderr}")
+    return p.stderr
+
+
+def final_hash(log):
+    m = re.findall(r"state hash ([0-9a-f]{16})", log)
+    if not m:
+        sys.exit(f"no state hash in the log:\n{log}")
+    return m[-1]
+
+
+def check(what, ok):
+    print(("ok    " if ok else "FAIL  ") + what)
+    if not ok:
+        failures.append(what)
+
+
+shutil.rmtree(WORK, ignore_errors=True)
+os.makedirs(WORK)
+out = {np: os.path.join(WORK, f"np{np}") for np in (0, 2, 3, 4)}
+serial_log = run(0, ["run", SCENARIO, "--out", out[0]])
+serial = final_hash(serial_log)
+STAGE_LINE = r"stage \d+ '\w+' begins at step \d+"
+print(f"serial: state hash {serial}")
+for np in (2, 3, 4):
+    log = run(np, ["run", SCENARIO, "--out", out[np]])
+    h = final_hash(log)
+    check(f"{np} processes: state hash {h} (serial {serial})", h == serial)
+    check(f"{np} processes: series.csv identical to the serial run's",
+          filecmp.cmp(os.path.join(out[0], "series.csv"), os.path.join(out[np], "series.csv"),
+                      shallow=False))
+    mine = sorted(os.listdir(os.path.join(out[np], "snapshots")))
+    check(f"{np} processes: the same snapshots ({len(mine)})",
+          mine == sorted(os.listdir(os.path.join(out[0], "snapshots"))))
+    stages = re.findall(STAGE_LINE, log)
+    check(f"{np} processes: the stages begin at the serial run's steps ({stages})",
+          len(stages) == 2 and stages == re.findall(STAGE_LINE, serial_log))
+
+# A snapshot written by 4 processes, taken in the middle of the run, resumed on 1 and on 3.
+snaps = sorted(f for f in os.listdir(os.path.join(out[4], "snapshots")) if f.startswith("step_"))
+if not snaps:
+    sys.exit("the scenario writes no step_*.h5 snapshot to resume from")
+start = os.path.join(out[4], "snapshots", snaps[0])
+for np in (0, 3):
+    h = final_hash(run(np, ["run", SCENARIO, "--resume", start, "--out",
+                            os.path.join(WORK, f"resume-np{np}")]))
+    check(f"{snaps[0]} of 4 processes resumed on {max(np, 1)}: state hash {h} "
+          f"(serial {serial})", h == serial)
+
+for k, scenario in enumerate(MORE):
+    a, b = (os.path.join(WORK, f"more{k}-np{np}") for np in (0, 3))
+    h0 = final_hash(run(0, ["run", scenario, "--out", a]))
+    h3 = final_hash(run(3, ["run", scenario, "--out", b]))
+    name = os.path.basename(scenario)
+    check(f"{name} on 3 processes: state hash {h3} (serial {h0})", h3 == h0)
+    check(f"{name} on 3 processes: series.csv identical to the serial run's",
+          filecmp.cmp(os.path.join(a, "series.csv"), os.path.join(b, "series.csv"),
+                      shallow=False))
+
+# Contact dynamics is not decomposed: refused before anything is written, the key named.
+log = run(2, ["run", CD_SCENARIO, "--out", os.path.join(WORK, "cd")], expect_rc=2)
+check("contact dynamics on 2 processes: refused naming solver = \"cd\"",
+      'solver = "cd"' in log and "one process" in log)
+check("contact dynamics on 2 processes: nothing written",
+      not os.path.exists(os.path.join(WORK, "cd")))
+
+if failures:
+    sys.exit(f"{len(failures)} check(s) failed")
