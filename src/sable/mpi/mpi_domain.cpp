@@ -1,6 +1,7 @@
 #include "sable/mpi/mpi_domain.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "sable/mpi/records.hpp"
@@ -49,11 +50,13 @@ MpiDomain<D>::MpiDomain(MPI_Comm comm) : comm_(comm) {
 
 template <int D>
 void MpiDomain<D>::max(double* values, int n) const {
+  InMpi timed(*this);
   MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_DOUBLE, MPI_MAX, comm_);
 }
 
 template <int D>
 void MpiDomain<D>::reduce(WallTotals<D>& totals) const {
+  InMpi timed(*this);
   constexpr int kParts = D + WallTotals<D>::kRot;
   constexpr int kPacked = ExactSum::kPacked;
   std::vector<std::int64_t> flat(totals.size() * kParts * kPacked);
@@ -74,6 +77,7 @@ void MpiDomain<D>::reduce(WallTotals<D>& totals) const {
 
 template <int D>
 void MpiDomain<D>::sum(ExactSum* sums, int n) const {
+  InMpi timed(*this);
   constexpr int kPacked = ExactSum::kPacked;
   std::vector<std::int64_t> flat(static_cast<std::size_t>(n) * kPacked);
   for (int k = 0; k < n; ++k) {
@@ -89,6 +93,41 @@ void MpiDomain<D>::sum(ExactSum* sums, int n) const {
   }
 }
 
+// Each owned grain's weight for the cuts: this process's work since the last cut (its time
+// outside MPI calls, in ns) shared among its grains in proportion to 1 + their list entries
+// (a grain with more partners costs more). The cuts then move work, not grains, from the
+// busier processes, as LAMMPS' `fix balance rcb` with time weights does. Empty (count the
+// grains) when the work was not measured or time weights are off.
+template <int D>
+std::vector<std::int64_t> MpiDomain<D>::work_weights(const World<D>& w) {
+  const double busy =
+      std::chrono::duration<double>(Clock::now() - last_cut_).count() - mpi_seconds_;
+  if (!time_weights_ || !(busy > 0.0)) return {};
+  const auto& p = w.particles;
+  const auto& nl = w.neighbors;
+  std::vector<std::int64_t> entries(p.size(), 1);
+  for (std::size_t e = 0; e < nl.pairs.size(); ++e) {
+    ++entries[nl.pairs.i[e]];
+    ++entries[nl.pairs.j[e]];
+  }
+  for (std::size_t e = 0; e < nl.wall_pairs.size(); ++e) ++entries[nl.wall_pairs.i[e]];
+  double total = 0.0;
+  for (std::size_t k = 0; k < p.size(); ++k)
+    if (!(p.flags[k] & kGhost)) total += static_cast<double>(entries[k]);
+  std::vector<std::int64_t> weights;
+  weights.reserve(p.size());
+  // The time of one interval is noisy (a shared machine's other work, the outputs): the
+  // cost per entry is smoothed over the intervals, or the cuts swing from one to the next.
+  const double measured = total > 0.0 ? busy * 1e9 / total : 0.0;
+  cost_ = cost_ > 0.0 ? 0.5 * (cost_ + measured) : measured;
+  const double per_entry = cost_;
+  for (std::size_t k = 0; k < p.size(); ++k)
+    if (!(p.flags[k] & kGhost))
+      weights.push_back(
+          std::max<std::int64_t>(1, std::llround(per_entry * static_cast<double>(entries[k]))));
+  return weights;
+}
+
 // The cuts from this process's owned grains (every grain counted once over the processes).
 template <int D>
 void MpiDomain<D>::cut(const World<D>& w) {
@@ -97,13 +136,19 @@ void MpiDomain<D>::cut(const World<D>& w) {
   points.reserve(p.size());
   for (std::size_t k = 0; k < p.size(); ++k)
     if (!(p.flags[k] & kGhost)) points.push_back(p.x[k]);
+  const std::vector<std::int64_t> weights = work_weights(w);
+  // Every process must weigh alike (some may not have measured): counts unless all have.
+  int weighed = weights.empty() && !points.empty() ? 0 : 1;
+  MPI_Allreduce(MPI_IN_PLACE, &weighed, 1, MPI_INT, MPI_MIN, comm_);
   rcb_.cut(
       w.neighbors.domain_lo, w.neighbors.domain_hi, size_, points,
       [this](std::vector<std::int64_t>& counts) {
         MPI_Allreduce(MPI_IN_PLACE, counts.data(), static_cast<int>(counts.size()), MPI_INT64_T,
                       MPI_SUM, comm_);
       },
-      bias_);
+      bias_, weighed ? weights : std::vector<std::int64_t>{});
+  last_cut_ = Clock::now();
+  mpi_seconds_ = 0.0;
 }
 
 // Migration: the owned grains whose new box is another's go there with their contacts'
@@ -207,6 +252,7 @@ void MpiDomain<D>::refresh_ghosts(World<D>& w) {
     for (std::uint32_t k : send_slots_[static_cast<std::size_t>(r)])
       mpi_records::put_motion(out[static_cast<std::size_t>(r)], p, k);
   ++traffic_.steps;
+  InMpi timed(*this);
   const std::vector<char> in =
       all_to_all(comm_, out, nullptr, &traffic_.step_bytes, &traffic_.step_messages);
   const char* at = in.data();
@@ -224,6 +270,8 @@ void MpiDomain<D>::scatter(World<D>& w) {
   rcb_.cut(
       w.neighbors.domain_lo, w.neighbors.domain_hi, size_, p.x, [](std::vector<std::int64_t>&) {},
       bias_);
+  last_cut_ = Clock::now();
+  mpi_seconds_ = 0.0;
   double rmax = 0.0;
   for (double r : p.radius) rmax = std::max(rmax, r);
   const double reach2 = ghost_reach2(rmax, w.neighbors.skin);
@@ -254,6 +302,7 @@ void MpiDomain<D>::scatter(World<D>& w) {
 
 template <int D>
 void MpiDomain<D>::gather(const World<D>& w, World<D>& whole, int root) const {
+  InMpi timed(*this);  // process 0's assembly included: output work, not stepping work
   std::vector<char> grains, pairs, walls;
   mpi_records::put_owned(w, grains, pairs, walls);
   auto collect = [&](const std::vector<char>& mine) {

@@ -9,6 +9,7 @@
 
 #include <mpi.h>
 
+#include <chrono>
 #include <cstdint>
 #include <vector>
 
@@ -49,12 +50,31 @@ class MpiDomain final : public Domain<D> {
   };
   const Traffic& traffic() const { return traffic_; }
 
+  // Cuts weighed by measured work (default) or by grain count alone (the scaling model's
+  // measurements, or a test that wants the cuts the counts give).
+  void set_time_weights(bool on) { time_weights_ = on; }
+
   // Tests: cut lopsided (the lower half of each cut takes `bias` times its share), which must
   // change no result.
   void set_cut_bias(double bias) { bias_ = bias; }
 
  private:
+  using Clock = std::chrono::steady_clock;
   void cut(const World<D>& w);
+  std::vector<std::int64_t> work_weights(const World<D>& w);
+  // Times the MPI calls (waiting included) in its scope, so that the time between two cuts
+  // less the time in MPI is this process's work.
+  class InMpi {
+   public:
+    explicit InMpi(const MpiDomain& d) : d_(d) {}
+    ~InMpi() { d_.mpi_seconds_ += std::chrono::duration<double>(Clock::now() - t0_).count(); }
+    InMpi(const InMpi&) = delete;
+    InMpi& operator=(const InMpi&) = delete;
+
+   private:
+    const MpiDomain& d_;
+    Clock::time_point t0_ = Clock::now();
+  };
   // The squared reach of a ghost: every pair a list build can take, 2 R_max + skin (a hair
   // more, so that round-off never leaves one out).
   static double ghost_reach2(double rmax, double skin) {
@@ -77,6 +97,10 @@ class MpiDomain final : public Domain<D> {
   // redistribute), then their slots (after_build), in slot order.
   std::vector<std::vector<std::uint32_t>> send_ids_, recv_ids_, send_slots_, recv_slots_;
   Traffic traffic_;
+  bool time_weights_ = true;
+  Clock::time_point last_cut_ = Clock::now();
+  mutable double mpi_seconds_ = 0.0;  // in MPI calls since the last cut
+  double cost_ = 0.0;                 // ns of work per list entry, smoothed over the cuts
 };
 
 }  // namespace sable

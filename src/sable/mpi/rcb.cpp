@@ -46,7 +46,7 @@ int cut_edge(const std::int64_t* counts, int bins, int below, int count, double 
 
 template <int D>
 void Rcb<D>::cut(const Vec& lo, const Vec& hi, int parts, const std::vector<Vec>& points,
-                 const Reduce& reduce, double bias) {
+                 const Reduce& reduce, double bias, const std::vector<std::int64_t>& weights) {
   lo_ = lo;
   hi_ = hi;
   nodes_.assign(1, Node{});
@@ -63,7 +63,8 @@ void Rcb<D>::cut(const Vec& lo, const Vec& hi, int parts, const std::vector<Vec>
       if (o >= open.size() || open[o].count < 2) continue;
       const Box& b = open[o].box;
       const int a = axis[o];
-      ++counts[o * kBins + static_cast<std::size_t>(bin_of(points[k][a], b.lo[a], b.hi[a], kBins))];
+      counts[o * kBins + static_cast<std::size_t>(bin_of(points[k][a], b.lo[a], b.hi[a], kBins))] +=
+          weights.empty() ? 1 : weights[k];
     }
     const bool splits =
         std::any_of(open.begin(), open.end(), [](const Open<D>& o) { return o.count > 1; });

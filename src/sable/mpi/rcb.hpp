@@ -6,7 +6,8 @@
 //
 // The grains' positions may be spread over the processes: the cut is found from histograms of
 // the positions along the axis (kBins bins a box), summed over every process by `reduce`,
-// so every process finds the same cuts.
+// so every process finds the same cuts. The grains may be weighed by their work (MpiDomain:
+// the process's measured time shared by the grains' list entries), as LAMMPS' time weights.
 #pragma once
 
 #include <cstdint>
@@ -29,11 +30,14 @@ class Rcb {
   using Reduce = std::function<void(std::vector<std::int64_t>&)>;
 
   // Cuts [lo, hi] into `parts` boxes, weighing the grains at `points` (this process's share)
-  // and everyone else's through `reduce`.
+  // and everyone else's through `reduce`: each grain by its entry of `weights` (integers, so
+  // that the sum over processes, and so the cuts, are the same on every process), or 1 when
+  // `weights` is empty.
   // `bias` scales the share of the lower half of each cut (1: even; tests force lopsided cuts
   // with less, which must change no result).
   void cut(const Vec& lo, const Vec& hi, int parts, const std::vector<Vec>& points,
-           const Reduce& reduce, double bias = 1.0);
+           const Reduce& reduce, double bias = 1.0,
+           const std::vector<std::int64_t>& weights = {});
 
   int parts() const { return static_cast<int>(boxes_.size()); }
   const Box& box(int part) const { return boxes_[static_cast<std::size_t>(part)]; }
