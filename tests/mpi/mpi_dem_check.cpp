@@ -141,13 +141,17 @@ int check(const sable::ScenarioConfig& cfg, int steps, double bias, std::size_t 
   const auto& t = domain.traffic();
   const double steps_done = static_cast<double>(std::max<std::uint64_t>(t.steps, 1));
   const double builds = static_cast<double>(std::max<std::uint64_t>(t.builds, 1));
+  std::string box;
+  for (int d = 0; d < D; ++d)
+    box += std::to_string(domain.box().lo[d]) + ".." + std::to_string(domain.box().hi[d]) +
+           (d + 1 < D ? " x " : "");
   std::printf(
       "process %d: %zu grains owned, %zu ghosts; a step: %.0f bytes in %.2f messages; a list "
-      "build: %.0f bytes in %.2f messages (%llu builds)\n",
+      "build: %.0f bytes in %.2f messages (%llu builds); box %s m\n",
       rank, world.particles.size() - ghosts, ghosts, static_cast<double>(t.step_bytes) / steps_done,
       static_cast<double>(t.step_messages) / steps_done,
       static_cast<double>(t.build_bytes) / builds, static_cast<double>(t.build_messages) / builds,
-      static_cast<unsigned long long>(t.builds));
+      static_cast<unsigned long long>(t.builds), box.c_str());
   sable::World<D> whole;
   domain.gather(world, whole, 0);
   int same = 1;

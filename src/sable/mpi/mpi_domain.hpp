@@ -49,6 +49,8 @@ class MpiDomain final : public Domain<D> {
     std::uint64_t build_messages = 0;  // non-empty messages sent by them
   };
   const Traffic& traffic() const { return traffic_; }
+  // This process's box at the last cut.
+  const typename Rcb<D>::Box& box() const { return rcb_.box(rank_); }
 
   // Cuts weighed by measured work (default) or by grain count alone (the scaling model's
   // measurements, or a test that wants the cuts the counts give).

@@ -146,21 +146,31 @@ template <int D>
 LocalState<D> extract(const World<D>& w, const std::function<bool(std::uint32_t)>& keep) {
   LocalState<D> s;
   const auto& p = w.particles;
-  std::vector<char> bytes;
+  // Every array copied whole, then compacted to the kept grains (as owned: scatter() marks
+  // its ghosts after): a grain record each would copy them element by element, twice.
+  std::vector<std::uint32_t> kept;
+  std::vector<char> mask(p.size(), 0);
   for (std::uint32_t k = 0; k < p.size(); ++k)
-    if (keep(k)) put_grain(bytes, p, k);
-  read_grains(bytes, s.particles, false);  // as owned: scatter() marks its ghosts after
+    if (keep(k)) {
+      kept.push_back(k);
+      mask[k] = 1;
+    }
+  s.particles = p;
+  s.particles.for_each_array([&](auto& a) {
+    for (std::size_t m = 0; m < kept.size(); ++m) a[m] = a[kept[m]];
+    a.resize(kept.size());
+  });
+  for (auto& f : s.particles.flags) f = static_cast<std::uint8_t>(f & ~kGhost);
   // The list's reference positions, when it has them (a resumed world: the next rebuild
   // comes when it would have come in the serial run).
   if (w.neighbors.x_ref.size() == p.size())
-    for (std::uint32_t k = 0; k < p.size(); ++k)
-      if (keep(k)) s.x_ref.push_back(w.neighbors.x_ref[k]);
+    for (std::uint32_t k : kept) s.x_ref.push_back(w.neighbors.x_ref[k]);
   const auto& pl = w.neighbors.pairs;
   for (std::size_t e = 0; e < pl.size(); ++e)
-    if (keep(pl.i[e]) || keep(pl.j[e])) s.pairs.push_back(pair_record(w, e));
+    if (mask[pl.i[e]] || mask[pl.j[e]]) s.pairs.push_back(pair_record(w, e));
   const auto& wl = w.neighbors.wall_pairs;
   for (std::size_t e = 0; e < wl.size(); ++e)
-    if (keep(wl.i[e])) s.wall_pairs.push_back(wall_record(w, e));
+    if (mask[wl.i[e]]) s.wall_pairs.push_back(wall_record(w, e));
   return s;
 }
 
