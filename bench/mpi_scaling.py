@@ -22,7 +22,9 @@ are cubes of n_own grains with every face interior: ghosts = (sigma / delta) * (
                 the walls' exact totals 36 * 73 * 8 bytes
 with alpha = 2 us, beta = 12.5 GB/s (a 100 Gb/s network), alpha_a2a = 0.2 us per process
 (a zero-length slot of an all-to-all), t_gs the measured cost of a grain-step on one core.
-Efficiency = N / P * t_gs / (step time).
+Efficiency = N / P * t_gs / (step time). Last, the full-scale rotating-cylinder study
+(examples/rotating-cylinder/full.toml: 292,500 grains of the same size, 11.4 M steps) on 32 and
+256 processes, at T_GS_CYLINDER a grain-step (its settled bed's cost).
 """
 import math
 import os
@@ -95,7 +97,7 @@ def main():
             print(f"| {p} | {r['rank']} | {r['owned']} | {r['ghosts']} | "
                   f"{sigma * interior_area(r['box']):.0f} | {r['step_bytes']:.0f} | "
                   f"{r['step_msgs']:.2f} | {r['build_bytes']:.0f} |")
-    t_gs = float(os.environ.get("T_GS", "80e-9"))
+    t_gs = float(os.environ.get("T_GS", "200e-9"))
     print(f"\nprediction (t_gs = {t_gs * 1e9:.0f} ns a grain-step on one core, T_GS):")
     print("| grains | processes | owned | ghosts | bytes a step | compute (us) | "
           "communication (us) | efficiency |")
@@ -106,6 +108,12 @@ def main():
             eff = n / p * t_gs / (compute + comm)
             print(f"| {n:,} | {p} | {n // p:,} | {ghosts:,.0f} | {ghosts * bytes_per_ghost:,.0f} "
                   f"| {compute * 1e6:,.0f} | {comm * 1e6:,.0f} | {eff:.2f} |")
+    t_cyl = float(os.environ.get("T_GS_CYLINDER", "310e-9"))
+    for p in (32, 256):
+        ghosts, compute, comm = step_time(292_500, p, sigma, bytes_per_ghost, t_cyl)
+        step = compute + comm
+        print(f"full-scale cylinder on {p} processes: {step * 1e3:.2f} ms a step, 11.4 M steps in "
+              f"{11.4e6 * step / 3600:.1f} h (t_gs {t_cyl * 1e9:.0f} ns)")
 
 
 if __name__ == "__main__":

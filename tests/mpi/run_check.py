@@ -1,6 +1,7 @@
 """`mpirun -np N sable run` against `sable run`: the same state hash, the same series.csv
 byte for byte, snapshots that resume on any number of processes with the serial run's end
-state, and a refusal (exit 2, the key named) for what does not run decomposed.
+state, a failed grain stopping every process at the serial run's step, and a refusal (exit 2,
+the key named) for what does not run decomposed.
 
 Usage: run_check.py SABLE MPIEXEC WORKDIR SCENARIO CD_SCENARIO [MORE_SCENARIO ...]
 (each further scenario: its hash and series.csv on 3 processes against the serial run's)
@@ -85,6 +86,25 @@ for k, scenario in enumerate(MORE):
     check(f"{name} on 3 processes: series.csv identical to the serial run's",
           filecmp.cmp(os.path.join(a, "series.csv"), os.path.join(b, "series.csv"),
                       shallow=False))
+
+# A grain that fails its check on one process (here: faster than max_speed = 0.05 m/s, which
+# the falling grains pass within ~5 ms) stops every process at the serial run's step, with the
+# crash snapshot and exit 1.
+runaway = os.path.join(WORK, "runaway.toml")
+with open(SCENARIO) as f:
+    text = f.read().replace("[simulation]\n", "[simulation]\nmax_speed = 0.05\n", 1)
+with open(runaway, "w") as f:
+    f.write(text)
+crash = {}
+for np in (0, 2):
+    out_dir = os.path.join(WORK, f"runaway-np{np}")
+    log = run(np, ["run", runaway, "--out", out_dir], expect_rc=1)
+    crash[np] = sorted(f for f in os.listdir(os.path.join(out_dir, "snapshots"))
+                       if f.startswith("crash_step_"))
+    check(f"runaway grain on {max(np, 1)} process(es): the message names it",
+          "max_speed" in log and "grain" in log)
+check(f"runaway grain on 2 processes: the crash snapshot of the serial run's step ({crash[0]})",
+      len(crash[0]) == 1 and crash[2] == crash[0])
 
 # Contact dynamics is not decomposed: refused before anything is written, the key named.
 log = run(2, ["run", CD_SCENARIO, "--out", os.path.join(WORK, "cd")], expect_rc=2)

@@ -36,8 +36,7 @@ class Rcb {
   // `bias` scales the share of the lower half of each cut (1: even; tests force lopsided cuts
   // with less, which must change no result).
   void cut(const Vec& lo, const Vec& hi, int parts, const std::vector<Vec>& points,
-           const Reduce& reduce, double bias = 1.0,
-           const std::vector<std::int64_t>& weights = {});
+           const Reduce& reduce, double bias = 1.0, const std::vector<std::int64_t>& weights = {});
 
   int parts() const { return static_cast<int>(boxes_.size()); }
   const Box& box(int part) const { return boxes_[static_cast<std::size_t>(part)]; }
