@@ -29,6 +29,5 @@ class Launch {
 
  private:
   int rank_ = 0, size_ = 1;
-  bool joined_ = false;
   std::unique_ptr<sable::DomainMaker> domains_;
 };

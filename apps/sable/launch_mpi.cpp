@@ -35,14 +35,15 @@ Launch::Launch(int& argc, char**& argv) {
   // OpenMP threads inside a process never call MPI: the main thread does all of it.
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
-  joined_ = true;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
   if (size_ > 1) domains_ = std::make_unique<MpiDomains>();
 }
 
 Launch::~Launch() {
-  if (joined_) MPI_Finalize();
+  int joined = 0;
+  MPI_Initialized(&joined);
+  if (joined) MPI_Finalize();
 }
 
 std::string Launch::prefix() const {
@@ -50,6 +51,6 @@ std::string Launch::prefix() const {
 }
 
 void Launch::abort(int code) const {
-  if (joined_ && size_ > 1) MPI_Abort(MPI_COMM_WORLD, code);
+  if (size_ > 1) MPI_Abort(MPI_COMM_WORLD, code);
   std::exit(code);
 }
