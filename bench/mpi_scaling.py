@@ -16,9 +16,10 @@ b bytes a step (its position, velocity, spin and orientation: measured). At scal
 are cubes of n_own grains with every face interior: ghosts = (sigma / delta) * ((a + 2 delta)^3
 - a^3), a = (n_own delta / sigma)^(1/3), and 26 neighbours. A step then costs
   compute: (n_own + ghosts / 2) * t_gs   (a pair with a ghost is computed on both sides)
-  ghost exchange: 26 messages * alpha + ghosts * b / beta   (neighbour sends)
-                  + P * alpha_a2a        (today's MPI_Alltoall(v) over every process)
-  4 reductions: 2 log2(P) * (alpha + m / beta) each (recursive doubling), m = 16, 24, 24 and
+  ghost exchange: 26 messages * alpha + ghosts * b / beta   (point to point, neighbours only)
+  list builds: 4 MPI_Alltoall(v) over every process, 4 * P * alpha_a2a, once every 385 steps
+               (the settled bed's 13 builds in 5,000 steps)
+  3 reductions: 2 log2(P) * (alpha + m / beta) each (recursive doubling), m = 16, 24 and
                 the walls' exact totals 36 * 73 * 8 bytes
 with alpha = 2 us, beta = 12.5 GB/s (a 100 Gb/s network), alpha_a2a = 0.2 us per process
 (a zero-length slot of an all-to-all), t_gs the measured cost of a grain-step on one core.
@@ -41,6 +42,7 @@ LINE = re.compile(r"process (\d+): (\d+) grains owned, (\d+) ghosts; a step: (\d
                   r"([\d.]+) messages; a list build: (\d+) bytes in ([\d.]+) messages "
                   r"\((\d+) builds\); box (.*) m")
 ALPHA, BETA, ALPHA_A2A = 2e-6, 12.5e9, 0.2e-6
+STEPS_PER_BUILD = 385
 DELTA = 2 * 0.75e-3 + 0.5e-3  # the pour bed's ghost reach: 2 R_max + skin (m)
 DOMAIN = ((0.0, 0.030), (0.0, 0.030), (0.0, 0.110))
 
@@ -74,9 +76,9 @@ def step_time(n, p, sigma, bytes_per_ghost, t_gs):
     a = (n_own * DELTA / sigma) ** (1 / 3)
     ghosts = sigma / DELTA * ((a + 2 * DELTA) ** 3 - a ** 3)
     compute = (n_own + ghosts / 2) * t_gs
-    exchange = 26 * ALPHA + ghosts * bytes_per_ghost / BETA + p * ALPHA_A2A
+    exchange = 26 * ALPHA + ghosts * bytes_per_ghost / BETA + 4 * p * ALPHA_A2A / STEPS_PER_BUILD
     rounds = 2 * math.log2(p)
-    reduce = sum(rounds * (ALPHA + m / BETA) for m in (16, 24, 24, 36 * 73 * 8))
+    reduce = sum(rounds * (ALPHA + m / BETA) for m in (16, 24, 36 * 73 * 8))
     return ghosts, compute, exchange + reduce
 
 

@@ -243,22 +243,45 @@ void MpiDomain<D>::after_build(World<D>& w) {
 }
 
 // After each drift: the owners' positions, velocities, spins and orientations, in slot order
-// on both sides (the global order restricted to the same grains).
+// on both sides (the global order restricted to the same grains). Only the processes whose
+// boxes share ghosts exchange messages (a few neighbours, not every process), their sizes
+// known from the slots; the buffers are kept from step to step.
 template <int D>
 void MpiDomain<D>::refresh_ghosts(World<D>& w) {
   auto& p = w.particles;
-  std::vector<std::vector<char>> out(static_cast<std::size_t>(size_));
-  for (int r = 0; r < size_; ++r)
-    for (std::uint32_t k : send_slots_[static_cast<std::size_t>(r)])
-      mpi_records::put_motion(out[static_cast<std::size_t>(r)], p, k);
+  constexpr std::size_t record = mpi_records::motion_record_bytes<D>();
+  const auto ranks = static_cast<std::size_t>(size_);
+  motion_out_.resize(ranks);
+  std::size_t incoming = 0;
+  for (const auto& slots : recv_slots_) incoming += slots.size();
+  motion_in_.resize(incoming * record);
+  requests_.clear();
   ++traffic_.steps;
   InMpi timed(*this);
-  const std::vector<char> in =
-      all_to_all(comm_, out, nullptr, &traffic_.step_bytes, &traffic_.step_messages);
-  const char* at = in.data();
-  for (int r = 0; r < size_; ++r)
-    for (std::uint32_t k : recv_slots_[static_cast<std::size_t>(r)])
-      at = mpi_records::get_motion(at, p, k);
+  char* at = motion_in_.data();
+  for (std::size_t r = 0; r < ranks; ++r) {
+    const std::size_t bytes = recv_slots_[r].size() * record;
+    if (bytes == 0) continue;
+    requests_.emplace_back();
+    MPI_Irecv(at, static_cast<int>(bytes), MPI_BYTE, static_cast<int>(r), kMotionTag, comm_,
+              &requests_.back());
+    at += bytes;
+  }
+  for (std::size_t r = 0; r < ranks; ++r) {
+    auto& out = motion_out_[r];
+    out.clear();
+    for (std::uint32_t k : send_slots_[r]) mpi_records::put_motion(out, p, k);
+    if (out.empty()) continue;
+    traffic_.step_bytes += out.size();
+    ++traffic_.step_messages;
+    requests_.emplace_back();
+    MPI_Isend(out.data(), static_cast<int>(out.size()), MPI_BYTE, static_cast<int>(r), kMotionTag,
+              comm_, &requests_.back());
+  }
+  MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);
+  const char* in = motion_in_.data();
+  for (std::size_t r = 0; r < ranks; ++r)
+    for (std::uint32_t k : recv_slots_[r]) in = mpi_records::get_motion(in, p, k);
 }
 
 // Every process built the whole world: keep this one's share, as a redistribution would.

@@ -99,6 +99,11 @@ class MpiDomain final : public Domain<D> {
   // redistribute), then their slots (after_build), in slot order.
   std::vector<std::vector<std::uint32_t>> send_ids_, recv_ids_, send_slots_, recv_slots_;
   Traffic traffic_;
+  // refresh_ghosts()' buffers, kept from step to step.
+  static constexpr int kMotionTag = 7301;
+  std::vector<std::vector<char>> motion_out_;
+  std::vector<char> motion_in_;
+  std::vector<MPI_Request> requests_;
   bool time_weights_ = true;
   Clock::time_point last_cut_ = Clock::now();
   mutable double mpi_seconds_ = 0.0;  // in MPI calls since the last cut

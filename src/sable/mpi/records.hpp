@@ -81,6 +81,14 @@ void drop_ghost_entries(World<D>& w);
 // A ghost's motion: position, velocity, spin, orientation.
 template <int D>
 void put_motion(std::vector<char>& out, const ParticleStore<D>& p, std::uint32_t k);
+// The bytes put_motion() writes for a grain.
+template <int D>
+constexpr std::size_t motion_record_bytes() {
+  using P = ParticleStore<D>;
+  return sizeof(typename decltype(P::x)::value_type) + sizeof(typename decltype(P::v)::value_type) +
+         sizeof(typename decltype(P::omega)::value_type) +
+         sizeof(typename decltype(P::q)::value_type);
+}
 template <int D>
 const char* get_motion(const char* in, ParticleStore<D>& p, std::uint32_t k);
 
