@@ -130,7 +130,11 @@ void Simulation<D>::setup() {
   const bool rebuild = world_.neighbors.x_ref.empty();
   domain_->scatter(world_);
   if (rebuild) world_.neighbors.x_ref.clear();
-  if (opt_.resume.empty()) solver_->initialize();
+  if (opt_.resume.empty()) {
+    solver_->initialize();  // its forces' largest overlap: the first row of series.csv
+    max_overlap_ = solver_->diagnostics().max_overlap_ratio;
+    domain_->max(&max_overlap_, 1);
+  }
   if (dt_warning) progress_.message("warning: " + *dt_warning);
   if (opt_.write_outputs) open_outputs(!opt_.resume.empty());
 }
