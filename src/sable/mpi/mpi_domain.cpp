@@ -55,27 +55,6 @@ void MpiDomain<D>::max(double* values, int n) const {
 }
 
 template <int D>
-void MpiDomain<D>::reduce(WallTotals<D>& totals) const {
-  InMpi timed(*this);
-  constexpr int kParts = D + WallTotals<D>::kRot;
-  constexpr int kPacked = ExactSum::kPacked;
-  std::vector<std::int64_t> flat(totals.size() * kParts * kPacked);
-  for (std::size_t w = 0; w < totals.size(); ++w)
-    for (int c = 0; c < kParts; ++c) {
-      const auto packed = totals.component(w, c).packed();
-      std::copy(packed.begin(), packed.end(), flat.begin() + (w * kParts + c) * kPacked);
-    }
-  MPI_Allreduce(MPI_IN_PLACE, flat.data(), static_cast<int>(flat.size()), MPI_INT64_T, MPI_SUM,
-                comm_);
-  for (std::size_t w = 0; w < totals.size(); ++w)
-    for (int c = 0; c < kParts; ++c) {
-      std::array<std::int64_t, kPacked> packed;
-      std::copy_n(flat.begin() + (w * kParts + c) * kPacked, kPacked, packed.begin());
-      totals.component(w, c) = ExactSum::from_packed(packed);
-    }
-}
-
-template <int D>
 void MpiDomain<D>::sum(ExactSum* sums, int n) const {
   InMpi timed(*this);
   constexpr int kPacked = ExactSum::kPacked;
@@ -120,11 +99,10 @@ std::vector<std::int64_t> MpiDomain<D>::work_weights(const World<D>& w) {
   // cost per entry is smoothed over the intervals, or the cuts swing from one to the next.
   const double measured = total > 0.0 ? busy * 1e9 / total : 0.0;
   cost_ = cost_ > 0.0 ? 0.5 * (cost_ + measured) : measured;
-  const double per_entry = cost_;
   for (std::size_t k = 0; k < p.size(); ++k)
     if (!(p.flags[k] & kGhost))
       weights.push_back(
-          std::max<std::int64_t>(1, std::llround(per_entry * static_cast<double>(entries[k]))));
+          std::max<std::int64_t>(1, std::llround(cost_ * static_cast<double>(entries[k]))));
   return weights;
 }
 

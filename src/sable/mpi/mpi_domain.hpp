@@ -31,7 +31,6 @@ class MpiDomain final : public Domain<D> {
   std::uint64_t total_grains() const override { return total_; }
   void redistribute(World<D>& w) override;
   void after_build(World<D>& w) override;
-  void reduce(WallTotals<D>& totals) const override;
   void sum(ExactSum* sums, int n) const override;
   using Domain<D>::sum;
   void scatter(World<D>& w) override;

@@ -45,11 +45,13 @@ class Domain {
   // After the build: the contacts among ghosts alone are dropped (no process needs them), and
   // the ghost exchange is set up for the new slots.
   virtual void after_build(World<D>& /*w*/) {}
-  // Sums the walls' totals over every process (exactly: the same bits on each).
-  virtual void reduce(WallTotals<D>& /*totals*/) const {}
   // Each of sums[0 .. n) becomes the sum of every process's (exactly: the same bits on each).
   virtual void sum(ExactSum* /*sums*/, int /*n*/) const {}
   void sum(ExactSum& s) const { sum(&s, 1); }
+  // The walls' totals summed over every process.
+  void reduce(WallTotals<D>& totals) const {
+    sum(totals.data(), static_cast<int>(totals.components()));
+  }
 
   // From a World every process built or loaded whole (the same scenario or snapshot, the same
   // bits): keeps this process's share, as a redistribution with nothing to send would.

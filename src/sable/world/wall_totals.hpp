@@ -3,7 +3,6 @@
 // the slot order or the process that holds them. The sums are rounded once, when read.
 #pragma once
 
-#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -19,28 +18,32 @@ class WallTotals {
   using Vec = typename Space<D>::Vec;
   using Rot = typename Space<D>::Rot;
   static constexpr int kRot = D == 3 ? 3 : 1;
+  static constexpr int kParts = D + kRot;  // a wall's components: force, then torque
 
-  void reset(std::size_t walls) { sums_.assign(walls, {}); }
-  std::size_t size() const { return sums_.size(); }
+  void reset(std::size_t walls) { sums_.assign(walls * kParts, {}); }
+  std::size_t size() const { return sums_.size() / kParts; }
 
   void add_force(std::size_t wall, const Vec& f) {
-    for (int d = 0; d < D; ++d) sums_[wall][d].add(f[d]);
+    for (int d = 0; d < D; ++d) component(wall, d).add(f[d]);
   }
   void add_torque(std::size_t wall, const Rot& t) {
     if constexpr (D == 3) {
-      for (int d = 0; d < 3; ++d) sums_[wall][D + d].add(t[d]);
+      for (int d = 0; d < 3; ++d) component(wall, D + d).add(t[d]);
     } else {
-      sums_[wall][D].add(t);
+      component(wall, D).add(t);
     }
   }
   // Adds another set of totals over the same walls (partial sums of other threads or ranks).
   void merge(const WallTotals& o) {
-    for (std::size_t w = 0; w < sums_.size(); ++w)
-      for (int c = 0; c < D + kRot; ++c) sums_[w][c].merge(o.sums_[w][c]);
+    for (std::size_t k = 0; k < sums_.size(); ++k) sums_[k].merge(o.sums_[k]);
   }
 
   // Component c of a wall's total: force d = 0 .. D-1, then torque (one component in 2D).
-  ExactSum& component(std::size_t wall, int c) { return sums_[wall][c]; }
+  ExactSum& component(std::size_t wall, int c) { return sums_[wall * kParts + c]; }
+  const ExactSum& component(std::size_t wall, int c) const { return sums_[wall * kParts + c]; }
+  // Every component of every wall, wall by wall (for a sum over processes).
+  ExactSum* data() { return sums_.data(); }
+  std::size_t components() const { return sums_.size(); }
 
   // Each wall's force and torque set to its totals, rounded once.
   void store(std::vector<Wall<D>>& walls) const {
@@ -52,19 +55,20 @@ class WallTotals {
 
   Vec force(std::size_t wall) const {
     Vec f;
-    for (int d = 0; d < D; ++d) f[d] = sums_[wall][d].value();
+    for (int d = 0; d < D; ++d) f[d] = component(wall, d).value();
     return f;
   }
   Rot torque(std::size_t wall) const {
     if constexpr (D == 3) {
-      return Rot(sums_[wall][3].value(), sums_[wall][4].value(), sums_[wall][5].value());
+      return Rot(component(wall, 3).value(), component(wall, 4).value(),
+                 component(wall, 5).value());
     } else {
-      return sums_[wall][D].value();
+      return component(wall, D).value();
     }
   }
 
  private:
-  std::vector<std::array<ExactSum, D + kRot>> sums_;
+  std::vector<ExactSum> sums_;
 };
 
 }  // namespace sable
