@@ -1,12 +1,14 @@
 // The promise of the MPI decomposition (world/domain.hpp): the same bits as a serial run for
 // any number of processes. Run as
-// `mpirun -np N sable_mpi_dem_check SCENARIO STEPS [BIAS [STAGE [SNAPSHOT]]]`:
+// `mpirun -np N sable_mpi_dem_check SCENARIO STEPS [BIAS [STAGE [SNAPSHOT [RECUT]]]]`:
 // every process builds the scenario's world; process 0 also steps a serial copy with the
 // plain DemSolver; the decomposed run steps STEPS steps of its first stage's physics (no
 // stage rules; the wall velocities and rotations of stage STAGE, counted from 0, default 0),
 // then the whole state is gathered on process 0 and both state hashes are compared. With
-// SNAPSHOT, both runs resume from it (every process loads it whole, then keeps its share). BIAS
-// (default 1) makes every cut lopsided (mpi/rcb.hpp). Exit 0 when the hashes
+// SNAPSHOT (`-`: none), both runs resume from it (every process loads it whole, then keeps its
+// share). BIAS (default 1) makes every cut lopsided (mpi/rcb.hpp). RECUT > 0 forces a list
+// rebuild, and so new cuts, every RECUT steps in both runs, the bias swapped with 2 - BIAS at
+// each, so that the cuts swing and grains migrate back and forth. Exit 0 when the hashes
 // are equal (on every process), 1 when not, 2 on bad arguments.
 #include <mpi.h>
 
@@ -95,9 +97,25 @@ void compare(const sable::World<D>& a, const sable::World<D>& b) {
     if (!same) std::printf("  %s differ\n", name);
 }
 
+struct Options {
+  int steps = 0;
+  double bias = 1.0;
+  std::size_t stage = 0;
+  const char* snapshot = nullptr;
+  int recut = 0;
+};
+
+// A rebuild forced before step s (RECUT): the same steps in both runs.
+bool forced(const Options& o, int s) {
+  return o.recut > 0 && s > 0 && s % o.recut == 0;
+}
+
 template <int D>
-int check(const sable::ScenarioConfig& cfg, int steps, double bias, std::size_t stage,
-          const char* snapshot, int rank) {
+int check(const sable::ScenarioConfig& cfg, const Options& o, int rank) {
+  const int steps = o.steps;
+  const double bias = o.bias;
+  const std::size_t stage = o.stage;
+  const char* snapshot = o.snapshot;
   sable::World<D> world;
   sable::build_model(cfg, world);
   if (snapshot)
@@ -120,7 +138,10 @@ int check(const sable::ScenarioConfig& cfg, int steps, double bias, std::size_t 
     ref = world;
     sable::DemSolver<D> solver(ref);
     if (!snapshot) solver.initialize();
-    for (int s = 0; s < steps; ++s) solver.step();
+    for (int s = 0; s < steps; ++s) {
+      if (forced(o, s)) ref.neighbors.x_ref.clear();
+      solver.step();
+    }
     serial = sable::state_hash(ref);
   }
   sable::MpiDomain<D> domain(MPI_COMM_WORLD);
@@ -133,7 +154,13 @@ int check(const sable::ScenarioConfig& cfg, int steps, double bias, std::size_t 
   sable::DemSolver<D> solver(world);
   solver.set_domain(&domain);
   if (!snapshot) solver.initialize();
-  for (int s = 0; s < steps; ++s) solver.step();
+  for (int s = 0; s < steps; ++s) {
+    if (forced(o, s)) {
+      world.neighbors.x_ref.clear();
+      domain.set_cut_bias((s / o.recut) % 2 ? 2.0 - bias : bias);
+    }
+    solver.step();
+  }
   // How many grains this process owns and how many ghosts it holds, at the end.
   std::size_t ghosts = 0;
   for (std::uint8_t f : world.particles.flags) ghosts += (f & sable::kGhost) ? 1 : 0;
@@ -177,21 +204,23 @@ int main(int argc, char** argv) {
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   int rc = 2;
-  if (argc >= 3 && argc <= 6) {
+  if (argc >= 3 && argc <= 7) {
     try {
       const sable::ScenarioConfig cfg = sable::load_scenario(argv[1]);
-      const int steps = std::atoi(argv[2]);
-      const double bias = argc >= 4 ? std::atof(argv[3]) : 1.0;
-      const auto stage = static_cast<std::size_t>(argc >= 5 ? std::atoi(argv[4]) : 0);
-      const char* snapshot = argc == 6 ? argv[5] : nullptr;
-      rc = cfg.sim.dimension == 2 ? check<2>(cfg, steps, bias, stage, snapshot, rank)
-                                  : check<3>(cfg, steps, bias, stage, snapshot, rank);
+      Options o;
+      o.steps = std::atoi(argv[2]);
+      if (argc >= 4) o.bias = std::atof(argv[3]);
+      if (argc >= 5) o.stage = static_cast<std::size_t>(std::atoi(argv[4]));
+      if (argc >= 6 && std::string(argv[5]) != "-") o.snapshot = argv[5];
+      if (argc >= 7) o.recut = std::atoi(argv[6]);
+      rc = cfg.sim.dimension == 2 ? check<2>(cfg, o, rank) : check<3>(cfg, o, rank);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "process %d: %s\n", rank, e.what());
       MPI_Abort(MPI_COMM_WORLD, 1);
     }
   } else if (rank == 0) {
-    std::fprintf(stderr, "usage: mpirun -np N %s SCENARIO STEPS [BIAS [STAGE [SNAPSHOT]]]\n",
+    std::fprintf(stderr,
+                 "usage: mpirun -np N %s SCENARIO STEPS [BIAS [STAGE [SNAPSHOT|- [RECUT]]]]\n",
                  argv[0]);
   }
   MPI_Finalize();

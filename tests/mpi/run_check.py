@@ -4,7 +4,8 @@ state, a failed grain stopping every process at the serial run's step, and a ref
 the key named) for what does not run decomposed.
 
 Usage: run_check.py SABLE MPIEXEC WORKDIR SCENARIO CD_SCENARIO [MORE_SCENARIO ...]
-(each further scenario: its hash and series.csv on 3 processes against the serial run's)
+(each further scenario: its hash and series.csv on 2, 3 and 4 processes against the serial
+run's, and its first step_*.h5 snapshot of 4 processes resumed on 3)
 
 The promise (docs/ARCHITECTURE.md, "Domain decomposition"): one global order of every sum, so
 the bits of a serial run for any number of processes. Every comparison here is exact: a
@@ -66,6 +67,10 @@ for np in (2, 3, 4):
     check(f"{np} processes: the stages begin at the serial run's steps ({stages})",
           len(stages) == 2 and stages == re.findall(STAGE_LINE, serial_log))
 
+# Hybrid: 2 processes of 2 OpenMP threads each.
+h = final_hash(run(2, ["run", SCENARIO, "--threads", "2", "--out", os.path.join(WORK, "hybrid")]))
+check(f"2 processes x 2 threads: state hash {h} (serial {serial})", h == serial)
+
 # A snapshot written by 4 processes, taken in the middle of the run, resumed on 1 and on 3.
 snaps = sorted(f for f in os.listdir(os.path.join(out[4], "snapshots")) if f.startswith("step_"))
 if not snaps:
@@ -78,14 +83,23 @@ for np in (0, 3):
           f"(serial {serial})", h == serial)
 
 for k, scenario in enumerate(MORE):
-    a, b = (os.path.join(WORK, f"more{k}-np{np}") for np in (0, 3))
-    h0 = final_hash(run(0, ["run", scenario, "--out", a]))
-    h3 = final_hash(run(3, ["run", scenario, "--out", b]))
     name = os.path.basename(scenario)
-    check(f"{name} on 3 processes: state hash {h3} (serial {h0})", h3 == h0)
-    check(f"{name} on 3 processes: series.csv identical to the serial run's",
-          filecmp.cmp(os.path.join(a, "series.csv"), os.path.join(b, "series.csv"),
-                      shallow=False))
+    dirs = {np: os.path.join(WORK, f"more{k}-np{np}") for np in (0, 2, 3, 4)}
+    h0 = final_hash(run(0, ["run", scenario, "--out", dirs[0]]))
+    for np in (2, 3, 4):
+        h = final_hash(run(np, ["run", scenario, "--out", dirs[np]]))
+        check(f"{name} on {np} processes: state hash {h} (serial {h0})", h == h0)
+        check(f"{name} on {np} processes: series.csv identical to the serial run's",
+              filecmp.cmp(os.path.join(dirs[0], "series.csv"),
+                          os.path.join(dirs[np], "series.csv"), shallow=False))
+    snap_dir = os.path.join(dirs[4], "snapshots")
+    steps = sorted(f for f in os.listdir(snap_dir) if f.startswith("step_")) \
+        if os.path.isdir(snap_dir) else []
+    if steps:
+        h = final_hash(run(3, ["run", scenario, "--resume", os.path.join(snap_dir, steps[0]),
+                               "--out", os.path.join(WORK, f"more{k}-resume")]))
+        check(f"{name}: {steps[0]} of 4 processes resumed on 3: state hash {h} (serial {h0})",
+              h == h0)
 
 # A grain that fails its check on one process (here: faster than max_speed = 0.05 m/s, which
 # the falling grains pass within ~5 ms) stops every process at the serial run's step, with the
@@ -112,6 +126,20 @@ check("contact dynamics on 2 processes: refused naming solver = \"cd\"",
       'solver = "cd"' in log and "one process" in log)
 check("contact dynamics on 2 processes: nothing written",
       not os.path.exists(os.path.join(WORK, "cd")))
+
+# The liquid of ruptured bridges counted as lost is one running sum: refused on several
+# processes, naming the key.
+wet = [m for m in MORE if "water_content" in open(m).read()]
+if wet:
+    lost = os.path.join(WORK, "lost.toml")
+    with open(wet[0]) as f:
+        text = f.read().replace('cohesion = "capillary"\n',
+                                'cohesion = "capillary"\nruptured_liquid = "lost"\n', 1)
+    with open(lost, "w") as f:
+        f.write(text)
+    log = run(2, ["run", lost, "--out", os.path.join(WORK, "lost")], expect_rc=2)
+    check('ruptured_liquid = "lost" on 2 processes: refused naming the key',
+          'ruptured_liquid = "lost"' in log and not os.path.exists(os.path.join(WORK, "lost")))
 
 if failures:
     sys.exit(f"{len(failures)} check(s) failed")

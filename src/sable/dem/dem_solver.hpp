@@ -121,6 +121,8 @@ class DemSolver final : public Solver {
   template <class Normal>
   void wet_pair_forces();
   void settle_liquid();
+  void move_bridge_liquid();
+  void join_bridge_shares();
   template <class Normal>
   bool closing_loop(double h_kick);
   // A grain's closing (dem/grain_loops_impl.hpp): its wall contacts, its sum, the second half
@@ -224,6 +226,14 @@ class DemSolver final : public Solver {
   // applied in list order after the force pass; events_ counts them (0: nothing to scan).
   std::vector<std::uint8_t> pair_event_;
   std::size_t events_ = 0;
+  // settle_liquid()'s scratch: the bridges formed this step with what each grain gave, and
+  // (under MPI) the shares exchanged with the ghosts' owners.
+  struct FormedBridge {
+    std::size_t entry;
+    double from_i, from_j;
+  };
+  std::vector<FormedBridge> formed_;
+  std::vector<BridgeShare> shares_;
   std::uint64_t scratch_build_ = ~std::uint64_t{0};  // the neighbour build the scratch fits
   NearList<D> near_;         // the pair entries the force pass visits (dem/near_list.hpp)
   GrainReorder<D> reorder_;  // the grains in cell order at some builds (world/reorder.hpp)

@@ -718,40 +718,8 @@ void DemSolver<D, Laws>::wet_pair_forces() {
   events_ = events;
 }
 
-// Move the liquid of this step's bridge events, in list order (deterministic), and of any
-// bridge the last rebuild dropped. A new bridge whose rupture distance would exceed the skin
-// raises the skin and asks for a rebuild, so that no bridged pair can leave the list.
-template <int D, class Laws>
-void DemSolver<D, Laws>::settle_liquid() {
-  auto& nl = world_.neighbors;
-  auto& liquid = world_.liquid;
-  const auto policy = world_.model.capillary.ruptured;
-  if (liquid.film.size() != world_.particles.size())
-    liquid.film.resize(world_.particles.size(), 0.0);
-  for (const DroppedBridge& b : nl.dropped_bridges)
-    release_bridge(liquid, policy, b.i, b.j, b.volume);
-  nl.dropped_bridges.clear();
-  if (events_ == 0) return;
-  auto& pl = nl.pairs;
-  for (std::size_t k = 0; k < pl.size(); ++k) {
-    if (pair_event_[k] == 0) continue;
-    if (pair_event_[k] == dem_detail::kBridgeBroken) {
-      release_bridge(liquid, policy, pl.i[k], pl.j[k], pl.bridge[k]);
-      pl.bridge[k] = PairList<D>::kNoBridge;
-    } else {
-      pl.bridge[k] = take_bridge_liquid(liquid, pl.i[k], pl.j[k]);
-      const double reach = Capillary::rupture_distance(world_.model.capillary, pl.bridge[k]);
-      if (reach > nl.skin) {
-        nl.skin = 1.05 * reach;
-        nl.x_ref.clear();  // forces a rebuild before the next force pass
-      }
-    }
-    pair_event_[k] = 0;
-  }
-  events_ = 0;
-}
-
 }  // namespace sable
 
+#include "sable/dem/bridge_liquid_impl.hpp"
 #include "sable/dem/grain_loops_impl.hpp"
 #include "sable/dem/wall_contacts_impl.hpp"

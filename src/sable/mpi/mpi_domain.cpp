@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "sable/core/error.hpp"
 #include "sable/mpi/records.hpp"
 
 namespace sable {
@@ -143,7 +144,8 @@ void MpiDomain<D>::redistribute(World<D>& w) {
   std::vector<std::vector<char>> grains(static_cast<std::size_t>(size_)), pairs = grains,
                                                                           walls = grains;
   for (std::uint32_t k = 0; k < n; ++k)
-    if (leaving(k)) mpi_records::put_grain(grains[static_cast<std::size_t>(dest[k])], p, k);
+    if (leaving(k))
+      mpi_records::put_grain(grains[static_cast<std::size_t>(dest[k])], p, w.liquid.film, k);
   const auto& pl = w.neighbors.pairs;
   for (std::size_t e = 0; e < pl.size(); ++e) {
     const std::uint32_t i = pl.i[e], j = pl.j[e];
@@ -167,7 +169,7 @@ void MpiDomain<D>::redistribute(World<D>& w) {
   // with an owned member), then the arrivals and their entries.
   mpi_records::LocalState<D> local =
       mpi_records::extract(w, [&](std::uint32_t k) { return dest[k] == rank_; });
-  mpi_records::read_grains(arrivals, local.particles, false);
+  mpi_records::read_grains(arrivals, local, false);
   local.x_ref.clear();  // a build follows: its positions become the reference
   mpi_records::read_pairs(arrived_pairs, local.pairs);
   mpi_records::read_wall_pairs(arrived_walls, local.wall_pairs);
@@ -181,13 +183,13 @@ void MpiDomain<D>::redistribute(World<D>& w) {
   for (auto& s : send_ids_) s.clear();
   for (std::uint32_t k = 0; k < local.particles.size(); ++k)
     for_each_box_near(local.particles.x[k], reach2, rank_, [&](int r) {
-      mpi_records::put_grain(ghosts[static_cast<std::size_t>(r)], local.particles, k);
+      mpi_records::put_grain(ghosts[static_cast<std::size_t>(r)], local.particles, local.film, k);
       send_ids_[static_cast<std::size_t>(r)].push_back(local.particles.id[k].index);
     });
   std::vector<int> from;
   std::vector<char> ghost_bytes = all_to_all(comm_, ghosts, &from, bytes, messages);
   const std::size_t owned = local.particles.size();
-  mpi_records::read_grains(ghost_bytes, local.particles, true);
+  mpi_records::read_grains(ghost_bytes, local, true);
   // Which process each ghost came from, in the order they came (rank order).
   for (auto& r : recv_ids_) r.clear();
   {
@@ -218,6 +220,47 @@ void MpiDomain<D>::after_build(World<D>& w) {
     to_slots(send_ids_[static_cast<std::size_t>(r)], send_slots_[static_cast<std::size_t>(r)]);
     to_slots(recv_ids_[static_cast<std::size_t>(r)], recv_slots_[static_cast<std::size_t>(r)]);
   }
+  neighbours_.clear();
+  owner_of_slot_.assign(p.size(), rank_);
+  for (int r = 0; r < size_; ++r) {
+    const auto q = static_cast<std::size_t>(r);
+    if (!send_slots_[q].empty() || !recv_slots_[q].empty()) neighbours_.push_back(r);
+    for (std::uint32_t k : recv_slots_[q]) owner_of_slot_[k] = r;
+  }
+}
+
+// Each share goes to the owner of its bridge's partner (a ghost here), which holds the same
+// bridge; every neighbour gets a message, empty or not, so that each knows what to wait for.
+template <int D>
+void MpiDomain<D>::exchange_bridge_shares(const World<D>& w, std::vector<BridgeShare>& shares) {
+  const auto& ids = w.particles.ids;
+  shares_out_.resize(static_cast<std::size_t>(size_));
+  for (auto& out : shares_out_) out.clear();
+  for (const BridgeShare& s : shares) {
+    const std::uint32_t slot = ids.slot(ids.id_at_index(s.partner));
+    if (slot >= owner_of_slot_.size() || owner_of_slot_[slot] == rank_)
+      throw IoError("mpi: a bridge's liquid shared with a grain that is not a ghost here");
+    shares_out_[static_cast<std::size_t>(owner_of_slot_[slot])].push_back(s);
+  }
+  InMpi timed(*this);
+  requests_.clear();
+  for (int r : neighbours_) {
+    const auto& out = shares_out_[static_cast<std::size_t>(r)];
+    requests_.emplace_back();
+    MPI_Isend(out.data(), static_cast<int>(out.size() * sizeof(BridgeShare)), MPI_BYTE, r,
+              kBridgeTag, comm_, &requests_.back());
+  }
+  shares.clear();
+  for (int r : neighbours_) {
+    MPI_Status status;
+    MPI_Probe(r, kBridgeTag, comm_, &status);
+    int bytes = 0;
+    MPI_Get_count(&status, MPI_BYTE, &bytes);
+    const std::size_t at = shares.size();
+    shares.resize(at + static_cast<std::size_t>(bytes) / sizeof(BridgeShare));
+    MPI_Recv(shares.data() + at, bytes, MPI_BYTE, r, kBridgeTag, comm_, MPI_STATUS_IGNORE);
+  }
+  MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);
 }
 
 // After each drift: the owners' positions, velocities, spins and orientations, in slot order
@@ -306,20 +349,29 @@ void MpiDomain<D>::gather(const World<D>& w, World<D>& whole, int root) const {
   InMpi timed(*this);  // process 0's assembly included: output work, not stepping work
   std::vector<char> grains, pairs, walls;
   mpi_records::put_owned(w, grains, pairs, walls);
+  const bool everywhere = root == kEveryProcess;
+  const bool here = everywhere || rank_ == root;
   auto collect = [&](const std::vector<char>& mine) {
     int bytes = static_cast<int>(mine.size());
     std::vector<int> counts(static_cast<std::size_t>(size_)),
         disp(static_cast<std::size_t>(size_) + 1, 0);
-    MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, root, comm_);
+    if (everywhere)
+      MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
+    else
+      MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, root, comm_);
     for (int r = 0; r < size_; ++r) disp[r + 1] = disp[r] + counts[r];
-    std::vector<char> all(rank_ == root ? static_cast<std::size_t>(disp[size_]) : 0);
-    MPI_Gatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), disp.data(), MPI_BYTE,
-                root, comm_);
+    std::vector<char> all(here ? static_cast<std::size_t>(disp[size_]) : 0);
+    if (everywhere)
+      MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), disp.data(), MPI_BYTE,
+                     comm_);
+    else
+      MPI_Gatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), disp.data(), MPI_BYTE,
+                  root, comm_);
     return all;
   };
   std::vector<char> all_grains = collect(grains), all_pairs = collect(pairs),
                     all_walls = collect(walls);
-  if (rank_ != root) return;
+  if (!here) return;
   whole = w;
   mpi_records::assemble(whole, all_grains, all_pairs, all_walls);
 }

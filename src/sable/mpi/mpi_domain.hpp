@@ -35,8 +35,13 @@ class MpiDomain final : public Domain<D> {
   using Domain<D>::sum;
   void scatter(World<D>& w) override;
   void gather(const World<D>& w, World<D>& whole) const override { gather(w, whole, 0); }
-  // gather() onto process `root`.
+  void gather_everywhere(const World<D>& w, World<D>& whole) const override {
+    gather(w, whole, kEveryProcess);
+  }
+  // gather() onto process `root`, or onto every process (kEveryProcess).
+  static constexpr int kEveryProcess = -1;
   void gather(const World<D>& w, World<D>& whole, int root) const;
+  void exchange_bridge_shares(const World<D>& w, std::vector<BridgeShare>& shares) override;
 
   // What this process sent, since it was made: for the scaling model (docs/BENCHMARKS.md).
   struct Traffic {
@@ -97,10 +102,15 @@ class MpiDomain final : public Domain<D> {
   // Per process: the ids of the grains this one sends as ghosts / receives as ghosts (from
   // redistribute), then their slots (after_build), in slot order.
   std::vector<std::vector<std::uint32_t>> send_ids_, recv_ids_, send_slots_, recv_slots_;
+  // From after_build(): the processes this one exchanges ghosts with (either way: the
+  // relation is symmetric), and the owner of each slot's grain (this process for its own).
+  std::vector<int> neighbours_, owner_of_slot_;
   Traffic traffic_;
   // refresh_ghosts()' buffers, kept from step to step.
   static constexpr int kMotionTag = 7301;
+  static constexpr int kBridgeTag = 7302;
   std::vector<std::vector<char>> motion_out_;
+  std::vector<std::vector<BridgeShare>> shares_out_;  // exchange_bridge_shares()' buffers
   std::vector<char> motion_in_;
   std::vector<MPI_Request> requests_;
   bool time_weights_ = true;

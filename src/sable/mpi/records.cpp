@@ -39,25 +39,27 @@ std::size_t grain_record_bytes() {
     ParticleStore<D> p;
     p.for_each_array(
         [&](auto& a) { sum += sizeof(typename std::decay_t<decltype(a)>::value_type); });
-    return sum;
+    return sum + sizeof(double);  // the film
   }();
   return bytes;
 }
 
 template <int D>
-void put_grain(std::vector<char>& out, const ParticleStore<D>& p, std::uint32_t k) {
+void put_grain(std::vector<char>& out, const ParticleStore<D>& p, const std::vector<double>& film,
+               std::uint32_t k) {
   // for_each_array() visits the arrays of a mutable store; it reads nothing here.
   auto& store = const_cast<ParticleStore<D>&>(p);
   store.for_each_array([&](auto& a) { put(out, a[k]); });
+  put(out, k < film.size() ? film[k] : 0.0);
 }
 
 namespace {
 
-// `count` grain records from `at`, appended to p as ghosts or as owned grains; returns where
+// `count` grain records from `at`, appended to s as ghosts or as owned grains; returns where
 // they end.
 template <int D>
-const char* read_grain_records(const char* at, std::size_t count, ParticleStore<D>& p,
-                               bool ghosts) {
+const char* read_grain_records(const char* at, std::size_t count, LocalState<D>& s, bool ghosts) {
+  auto& p = s.particles;
   for (std::size_t n = 0; n < count; ++n) {
     p.for_each_array([&](auto& a) {
       typename std::decay_t<decltype(a)>::value_type v;
@@ -65,6 +67,8 @@ const char* read_grain_records(const char* at, std::size_t count, ParticleStore<
       a.push_back(v);
     });
     p.flags.back() = ghosts ? (p.flags.back() | kGhost) : (p.flags.back() & ~kGhost);
+    s.film.emplace_back();
+    at = get(at, s.film.back());
   }
   return at;
 }
@@ -72,11 +76,11 @@ const char* read_grain_records(const char* at, std::size_t count, ParticleStore<
 }  // namespace
 
 template <int D>
-void read_grains(const std::vector<char>& bytes, ParticleStore<D>& p, bool ghosts) {
+void read_grains(const std::vector<char>& bytes, LocalState<D>& s, bool ghosts) {
   const std::size_t record = grain_record_bytes<D>();
   if (bytes.size() % record != 0)
     throw IoError("mpi: a message of grains is not a whole number of grain records");
-  read_grain_records(bytes.data(), bytes.size() / record, p, ghosts);
+  read_grain_records(bytes.data(), bytes.size() / record, s, ghosts);
 }
 
 template <int D>
@@ -161,6 +165,10 @@ LocalState<D> extract(const World<D>& w, const std::function<bool(std::uint32_t)
     a.resize(kept.size());
   });
   for (auto& f : s.particles.flags) f = static_cast<std::uint8_t>(f & ~kGhost);
+  const auto& film = w.liquid.film;
+  s.film.resize(kept.size(), 0.0);
+  if (film.size() == p.size())
+    for (std::size_t m = 0; m < kept.size(); ++m) s.film[m] = film[kept[m]];
   // The list's reference positions, when it has them (a resumed world: the next rebuild
   // comes when it would have come in the serial run).
   if (w.neighbors.x_ref.size() == p.size())
@@ -268,15 +276,19 @@ void install_wall_pairs(World<D>& w, const std::vector<WallRecord<D>>& records,
 
 template <int D>
 void install(World<D>& w, LocalState<D>&& local) {
-  if (!w.liquid.film.empty())
-    throw InputError("MPI runs do not take liquid bridges yet: run a wet scenario serially");
-  // The grains into the global order, each array permuted as a whole.
+  // The grains into the global order, each array permuted as a whole, the films with them.
   ParticleStore<D> p = std::move(local.particles);
   const std::vector<std::uint32_t> order = global_order(p);
   p.for_each_array([&](auto& a) {
     auto from = a;
     for (std::size_t s = 0; s < order.size(); ++s) a[s] = from[order[s]];
   });
+  if (local.film.size() != order.size())
+    throw IoError("mpi: a process's grains and their liquid films do not match");
+  // A world is wet on every process or on none (LiquidState::total is global).
+  w.liquid.film.clear();
+  if (w.liquid.wet())
+    for (std::uint32_t k : order) w.liquid.film.push_back(local.film[k]);
   std::uint32_t max_index = 0;
   for (const ParticleId& id : p.id) max_index = std::max(max_index, id.index);
   // The registry: each local grain's id to its slot; the others' indices free of any slot.
@@ -361,7 +373,7 @@ void put_owned(const World<D>& w, std::vector<char>& grains, std::vector<char>& 
   const auto& nl = w.neighbors;
   for (std::uint32_t k = 0; k < p.size(); ++k) {
     if (p.flags[k] & kGhost) continue;
-    put_grain(grains, p, k);
+    put_grain(grains, p, w.liquid.film, k);
     put(grains, k < nl.x_ref.size() ? nl.x_ref[k] : p.x[k]);
   }
   for (std::size_t e = 0; e < nl.pairs.size(); ++e)
@@ -378,7 +390,7 @@ void assemble(World<D>& whole, const std::vector<char>& grains, const std::vecto
   if (grains.size() % step != 0)
     throw IoError("mpi: the gathered grains are not a whole number of grain records");
   for (const char* at = grains.data(); at < grains.data() + grains.size();) {
-    at = read_grain_records(at, 1, s.particles, false);
+    at = read_grain_records(at, 1, s, false);
     s.x_ref.emplace_back();
     at = get(at, s.x_ref.back());
   }
@@ -389,8 +401,9 @@ void assemble(World<D>& whole, const std::vector<char>& grains, const std::vecto
 
 #define SABLE_MPI_RECORDS(D)                                                                     \
   template std::size_t grain_record_bytes<D>();                                                  \
-  template void put_grain<D>(std::vector<char>&, const ParticleStore<D>&, std::uint32_t);        \
-  template void read_grains<D>(const std::vector<char>&, ParticleStore<D>&, bool);               \
+  template void put_grain<D>(std::vector<char>&, const ParticleStore<D>&,                        \
+                             const std::vector<double>&, std::uint32_t);                         \
+  template void read_grains<D>(const std::vector<char>&, LocalState<D>&, bool);                  \
   template bool carries_history<D>(const PairList<D>&, std::size_t);                             \
   template void put_pair<D>(std::vector<char>&, const World<D>&, std::size_t);                   \
   template void put_wall_pair<D>(std::vector<char>&, const World<D>&, std::size_t);              \

@@ -35,6 +35,7 @@ struct WallRecord {
 template <int D>
 struct LocalState {
   ParticleStore<D> particles;
+  std::vector<double> film;  // each grain's liquid film, as the particles (zeros: a dry world)
   std::vector<typename Space<D>::Vec> x_ref;  // empty: the positions (a build follows)
   std::vector<PairRecord<D>> pairs;
   std::vector<WallRecord<D>> wall_pairs;
@@ -42,12 +43,14 @@ struct LocalState {
 
 template <int D>
 std::size_t grain_record_bytes();
-// Appends grain k of p (every per-grain array).
+// Appends grain k of p (every per-grain array) and its liquid film (film[k]; 0 when `film`
+// does not hold it: a dry world, or a grain added since the liquid last moved).
 template <int D>
-void put_grain(std::vector<char>& out, const ParticleStore<D>& p, std::uint32_t k);
-// Appends every grain record of `bytes` to p, as ghosts or as owned grains.
+void put_grain(std::vector<char>& out, const ParticleStore<D>& p, const std::vector<double>& film,
+               std::uint32_t k);
+// Appends every grain record of `bytes` to s's grains and films, as ghosts or as owned grains.
 template <int D>
-void read_grains(const std::vector<char>& bytes, ParticleStore<D>& p, bool ghosts);
+void read_grains(const std::vector<char>& bytes, LocalState<D>& s, bool ghosts);
 
 // True when entry e holds something a new build would not restore (a history, a force, a
 // bridge).
@@ -68,9 +71,10 @@ template <int D>
 LocalState<D> extract(const World<D>& w, const std::function<bool(std::uint32_t)>& keep);
 
 // Makes `local` the World's grains and lists: slots in the global order, the id registry
-// rebuilt, the entries whose grains are both here (not both ghosts; a wall entry: its grain
-// owned) in their slots, sorted as a build leaves them. Where an entry comes twice, the later
-// one wins (an arrival's over the stale copy of a process that held its grain as a ghost).
+// rebuilt, the films (a wet world's), the entries whose grains are both here (not both ghosts; a
+// wall entry: its grain owned) in their slots, sorted as a build leaves them. Where an entry comes
+// twice, the later one wins (an arrival's over the stale copy of a process that held its grain as a
+// ghost).
 template <int D>
 void install(World<D>& w, LocalState<D>&& local);
 

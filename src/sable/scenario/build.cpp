@@ -303,13 +303,13 @@ std::unique_ptr<Solver> make_solver(const ScenarioConfig& cfg, World<D>& world, 
           "\"Domain decomposition\"): run it on one process, with --threads for a coloured "
           "sweep",
           cfg.path));
-    for (const auto& st : cfg.stages)
-      if (st.water_content)
-        throw InputError(fmt::format(
-            "{}: stage '{}' sets water_content: capillary bridges do not run on several MPI "
-            "processes yet (docs/ARCHITECTURE.md, \"Domain decomposition\"): run it on one "
-            "process",
-            cfg.path, st.name));
+    if (cfg.contact.cohesion == "capillary" && cfg.contact.ruptured_liquid == "lost")
+      throw InputError(fmt::format(
+          "{}: [contact] ruptured_liquid = \"lost\": the liquid lost by ruptured bridges is "
+          "one running sum over the sample, which does not run on several MPI processes yet "
+          "(docs/ARCHITECTURE.md, \"Domain decomposition\"): run it on one process, or keep "
+          "ruptured_liquid = \"grains\"",
+          cfg.path));
   }
   if (cfg.sim.solver != "cd") {
     auto dem = std::make_unique<DemSolver<D>>(world);

@@ -287,10 +287,21 @@ void Simulation<D>::start_stage() {
 }
 
 // Distribute the stage's liquid, then recompute the forces (the step starts from them).
+// Under MPI every process wets the whole sample, gathered, by the same bits, then keeps its
+// share: the liquid's shares depend on every pair of the sample (world/liquid.hpp).
 template <int D>
 void Simulation<D>::wet() {
   const StageConfig& st = cfg_.stages[pos_.stage];
-  const WettingResult r = wet_grains(world_, *st.water_content, st.liquid_density);
+  WettingResult r;
+  if (domain_->distributed()) {
+    World<D> all;
+    domain_->gather_everywhere(world_, all);
+    r = wet_grains(all, *st.water_content, st.liquid_density);
+    world_ = std::move(all);
+    domain_->scatter(world_);
+  } else {
+    r = wet_grains(world_, *st.water_content, st.liquid_density);
+  }
   solver_->initialize();
   progress_.message(fmt::format(
       "wetted: water content {:.4g}, liquid volume {:.4g} m^3 in {} bridges ({} at contacts, "

@@ -16,12 +16,20 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "sable/core/exact_sum.hpp"
 #include "sable/world/wall_totals.hpp"
 #include "sable/world/world.hpp"
 
 namespace sable {
+
+// Part of the liquid a bridge formed across two processes took: what grain `giver` (an id
+// index) gave from its film to its bridge with grain `partner`.
+struct BridgeShare {
+  std::uint32_t giver, partner;
+  double volume;
+};
 
 template <int D>
 class Domain {
@@ -60,6 +68,16 @@ class Domain {
   // order, its lists as a serial run holds them), for outputs, snapshots and state hashes;
   // the other processes leave `whole` alone.
   virtual void gather(const World<D>& w, World<D>& whole) const { whole = w; }
+  // As gather(), onto every process: wetting a decomposed sample (every process wets the
+  // whole sample alike, then keeps its share).
+  virtual void gather_everywhere(const World<D>& w, World<D>& whole) const { whole = w; }
+
+  // Wet runs, once a step after the bridges' events (collective): `shares` holds what this
+  // process's grains gave to the bridges they formed with ghosts; on return, what the ghosts'
+  // owners gave to the same bridges (each film's share is known only where its grain is
+  // owned, so a bridge's volume is put together from both).
+  virtual void exchange_bridge_shares(const World<D>& /*w*/, std::vector<BridgeShare>& /*shares*/) {
+  }
 };
 
 // Kinetic energy over every process (world.hpp's kinetic_energy() of this process's own
