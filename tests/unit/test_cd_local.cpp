@@ -10,6 +10,7 @@
 #include <cmath>
 #include <complex>
 #include <cstring>
+#include <iostream>
 #include <vector>
 
 #include "sable/cd/fc_enumerate.hpp"
@@ -418,6 +419,52 @@ TEST(CdNlgs, Converges2D) {
 }
 TEST(CdNlgs, Converges3D) {
   nlgs_converges<3>();
+}
+
+// The spaced checks' schedule: every sweep up to 20, then gaps of sweeps / 20 (so a solve
+// stops at most 5 % of its sweeps after the first that met the tolerance), at most 25.
+TEST(CdNlgs, SpacedChecksScheduleBoundsTheOvershoot) {
+  int last = 0, checks = 0;
+  for (int k = 1; k <= 5000; ++k) {
+    if (!residual_due(k)) continue;
+    ++checks;
+    const int gap = k - last;
+    EXPECT_LE(gap, std::max(1, k / 20)) << "check at " << k;
+    EXPECT_LE(gap, 25) << "check at " << k;
+    last = k;
+  }
+  for (int k = 1; k <= 20; ++k) EXPECT_TRUE(residual_due(k)) << k;
+  // 2,000 sweeps (a capped silo step) take 164 checks instead of 2,000: under a tenth.
+  checks = 0;
+  for (int k = 1; k <= 2000; ++k) checks += residual_due(k) ? 1 : 0;
+  EXPECT_LT(checks, 200);
+}
+
+// Spaced checks stop at a check at or after the sweep where every-sweep checks stop, at most
+// 5 % of the sweeps later, converged to the same tolerance, with the same iterates up to
+// there (the checks change nothing but when the loop stops).
+TEST(CdNlgs, SpacedChecksStopAtTheFirstDueCheckPastConvergence) {
+  for (const double tol : {1e-6, 1e-10}) {
+    auto every = coupled_problem<3>(12, 5), spaced = coupled_problem<3>(12, 5);
+    NlgsSettings s;
+    s.tolerance = tol;
+    s.max_iterations = 5000;
+    s.relaxation = 0.2;  // slow: the solve runs past the first 20 sweeps, where checks space
+    Rng ra(1), rb(1);
+    const NlgsResult a = solve_nlgs<3>(every, s, ra);
+    s.spaced_checks = true;
+    const NlgsResult b = solve_nlgs<3>(spaced, s, rb);
+    ASSERT_TRUE(a.converged && b.converged) << tol;
+    ASSERT_GT(a.iterations, 20) << "the solve must outlast the every-sweep checks";
+    std::cout << "tolerance " << tol << ": every-sweep checks stop after " << a.iterations
+              << " sweeps, spaced checks after " << b.iterations << "\n";
+    EXPECT_LE(b.error, tol);
+    EXPECT_EQ(b.residual, natural_map_error<3>(spaced));
+    int first_due = a.iterations;
+    while (!residual_due(first_due)) ++first_due;
+    EXPECT_EQ(b.iterations, first_due) << tol << ": every-sweep checks stopped at " << a.iterations;
+    EXPECT_LE(b.iterations, a.iterations + std::max(1, a.iterations / 20));
+  }
 }
 
 // Quad and Maxm stop the loop; the natural residual is filled anyway. Relaxation 0.8 too.

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "run_helpers.hpp"
+#include "sable/cd/nlgs.hpp"
 #include "sable/scenario/config.hpp"
 #include "sable/scenario/runner.hpp"
 
@@ -122,6 +123,47 @@ TEST_P(CdRun, NewtonFallbackReachesTheToleranceTheSweepsMiss) {
   }
   EXPECT_GT(short_without, 30);
   EXPECT_GT(newton_used, 30);
+  fs::remove_all(dir);
+}
+
+// [cd] residual_checks = "spaced" (cd/nlgs.hpp): every step stops at a sweep count where a
+// check was due, below the tolerance unless at the cap, and some steps run past the first 20
+// sweeps (where the checks space out), so the key reaches the solver.
+TEST_P(CdRun, SpacedResidualChecksStopOnlyWhereACheckIsDue) {
+  const int dim = GetParam();
+  const fs::path dir = fs::temp_directory_path() / ("sable_cd_spaced" + std::to_string(dim));
+  fs::remove_all(dir);
+  std::string t = cd_scenario(dim, 3, (dir / "spaced").string());
+  const std::string from = "[cd]\nsweep = \"shuffled\"\ntolerance = 1e-6\nmax_iterations = 300\n";
+  t.replace(t.find(from), from.size(),
+            "[cd]\ntolerance = 1e-9\nmax_iterations = 300\nresidual_checks = \"spaced\"\n");
+  t.replace(t.find("csv_interval = 50"), 17, "csv_interval = 1");
+  sable::test::run_text(t, {"", true, 1});
+  std::ifstream in(dir / "spaced" / "series.csv");
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> head;
+  std::stringstream hs(line);
+  for (std::string h; std::getline(hs, h, ',');) head.push_back(h);
+  const auto col = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(head.begin(), head.end(), name) - head.begin());
+  };
+  const std::size_t iters = col("nlgs_iterations"), res = col("nlgs_residual");
+  int long_solves = 0, rows = 0;
+  while (std::getline(in, line)) {
+    std::vector<std::string> v;
+    std::stringstream ls(line);
+    for (std::string x; std::getline(ls, x, ',');) v.push_back(x);
+    const int n = std::stoi(v.at(iters));
+    if (rows++ == 0 || n == 0) continue;  // the starting row; a step without contacts
+    EXPECT_TRUE(n == 300 || sable::cd::residual_due(n)) << "a step stopped after " << n;
+    if (n < 300) {
+      EXPECT_LE(std::stod(v.at(res)), 1e-9) << "after " << n << " sweeps";
+    }
+    long_solves += n > 20 ? 1 : 0;
+  }
+  EXPECT_EQ(rows, 301);
+  EXPECT_GT(long_solves, 10);
   fs::remove_all(dir);
 }
 

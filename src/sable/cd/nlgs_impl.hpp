@@ -251,10 +251,13 @@ NlgsResult solve_nlgs(Problem& problem, const NlgsSettings& s, Rng& rng) {
   SweepOrder sweep_order = s.order;
   double checkpoint = 0.0;  // the error after sweep checkpoint_at (the first, then each window's)
   int checkpoint_at = 1;
+  bool checked = true;  // res.error is the state's after the last sweep
   for (int k = 0; k < s.max_iterations; ++k) {
     const SweepStats st = sweep(sweep_order, k);
     res.iterations = k + 1;
     error_is_residual = s.criterion == Criterion::kNatural;
+    checked = !error_is_residual || !s.spaced_checks || residual_due(k + 1);
+    if (!checked) continue;
     res.error = error_is_residual ? residual() : detail::sweep_criterion(s.criterion, st, n);
     if (res.error <= s.tolerance) {
       res.converged = true;
@@ -283,6 +286,10 @@ NlgsResult solve_nlgs(Problem& problem, const NlgsSettings& s, Rng& rng) {
       checkpoint = res.error;
       checkpoint_at = k + 1;
     }
+  }
+  if (!checked) {  // the last sweep (the cap) was between two checks
+    res.error = residual();
+    res.converged = res.error <= s.tolerance;
   }
   res.residual = error_is_residual ? res.error : residual();
   if (res.iterations == 0) {  // max_iterations <= 0: report the state as it is

@@ -323,6 +323,7 @@ std::unique_ptr<Solver> make_solver(const ScenarioConfig& cfg, World<D>& world, 
   s.nlgs.tolerance = c.tolerance;
   s.nlgs.max_iterations = static_cast<int>(std::min<std::uint64_t>(c.max_iterations, 1u << 30));
   s.nlgs.relaxation = c.relaxation;
+  s.nlgs.spaced_checks = c.residual_checks == "spaced";
   s.newton_iterations = static_cast<int>(std::min<std::uint64_t>(c.newton_iterations, 1u << 30));
   s.nlgs.local =
       c.local_solver == "exact" ? cd::LocalSolver::kExact : cd::LocalSolver::kBipotential;
