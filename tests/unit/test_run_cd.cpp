@@ -43,6 +43,30 @@ std::string cd_scenario(int dim, std::uint64_t seed, const std::string& out) {
   return s.str();
 }
 
+// The named columns of a series.csv, row by row (a missing column throws).
+std::vector<std::vector<double>> series_columns(const fs::path& csv,
+                                                const std::vector<std::string>& names) {
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> head;
+  std::stringstream hs(line);
+  for (std::string h; std::getline(hs, h, ',');) head.push_back(h);
+  std::vector<std::size_t> cols;
+  for (const auto& name : names)
+    cols.push_back(
+        static_cast<std::size_t>(std::find(head.begin(), head.end(), name) - head.begin()));
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<std::string> v;
+    std::stringstream ls(line);
+    for (std::string x; std::getline(ls, x, ',');) v.push_back(x);
+    rows.emplace_back();
+    for (std::size_t c : cols) rows.back().push_back(std::stod(v.at(c)));
+  }
+  return rows;
+}
+
 sable::RunResult run(const std::string& text, const std::string& resume, bool outputs) {
   return sable::test::run_text(text, {resume, outputs, 0});
 }
@@ -90,24 +114,11 @@ TEST_P(CdRun, NewtonFallbackReachesTheToleranceTheSweepsMiss) {
   };
   // Each row's residual, and the Newton steps it took.
   const auto rows = [&](const std::string& out) {
-    std::ifstream in(dir / out / "series.csv");
-    std::string line;
-    std::getline(in, line);
-    std::vector<std::string> head;
-    std::stringstream hs(line);
-    for (std::string h; std::getline(hs, h, ',');) head.push_back(h);
-    const auto col = [&](const std::string& name) {
-      return static_cast<std::size_t>(std::find(head.begin(), head.end(), name) - head.begin());
-    };
-    const std::size_t res = col("nlgs_residual"), newton = col("newton_iterations");
-    std::vector<std::pair<double, double>> out_rows;
-    while (std::getline(in, line)) {
-      std::vector<std::string> v;
-      std::stringstream ls(line);
-      for (std::string x; std::getline(ls, x, ',');) v.push_back(x);
-      out_rows.emplace_back(std::stod(v.at(res)), std::stod(v.at(newton)));
-    }
-    return out_rows;
+    std::vector<std::pair<double, double>> r;
+    for (const auto& v :
+         series_columns(dir / out / "series.csv", {"nlgs_residual", "newton_iterations"}))
+      r.emplace_back(v[0], v[1]);
+    return r;
   };
   const auto with = sable::test::run_text(text(100, "with"), {"", true, 1});
   const auto two = sable::test::run_text(text(100, "two"), {"", true, 2});
@@ -139,26 +150,14 @@ TEST_P(CdRun, SpacedResidualChecksStopOnlyWhereACheckIsDue) {
             "[cd]\ntolerance = 1e-9\nmax_iterations = 300\nresidual_checks = \"spaced\"\n");
   t.replace(t.find("csv_interval = 50"), 17, "csv_interval = 1");
   sable::test::run_text(t, {"", true, 1});
-  std::ifstream in(dir / "spaced" / "series.csv");
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> head;
-  std::stringstream hs(line);
-  for (std::string h; std::getline(hs, h, ',');) head.push_back(h);
-  const auto col = [&](const std::string& name) {
-    return static_cast<std::size_t>(std::find(head.begin(), head.end(), name) - head.begin());
-  };
-  const std::size_t iters = col("nlgs_iterations"), res = col("nlgs_residual");
   int long_solves = 0, rows = 0;
-  while (std::getline(in, line)) {
-    std::vector<std::string> v;
-    std::stringstream ls(line);
-    for (std::string x; std::getline(ls, x, ',');) v.push_back(x);
-    const int n = std::stoi(v.at(iters));
+  for (const auto& v :
+       series_columns(dir / "spaced" / "series.csv", {"nlgs_iterations", "nlgs_residual"})) {
+    const int n = static_cast<int>(v[0]);
     if (rows++ == 0 || n == 0) continue;  // the starting row; a step without contacts
     EXPECT_TRUE(n == 300 || sable::cd::residual_due(n)) << "a step stopped after " << n;
     if (n < 300) {
-      EXPECT_LE(std::stod(v.at(res)), 1e-9) << "after " << n << " sweeps";
+      EXPECT_LE(v[1], 1e-9) << "after " << n << " sweeps";
     }
     long_solves += n > 20 ? 1 : 0;
   }
