@@ -62,8 +62,9 @@ struct NlgsSettings {
   // The natural-map residual costs about one sweep (every contact's velocity again): with
   // spaced checks it is computed after each of the first 20 sweeps, then after every
   // (sweeps / 20)-th, at most every 25th (residual_due()), so that a long solve spends a few
-  // % of its time on checks instead of ~45 %, and stops at most 5 % of its sweeps after the
-  // first one that met the tolerance. false (the default; `sable fc3d`, whose sweep counts are
+  // % of its time on checks instead of ~45 %, and stops at the first due check that meets
+  // the tolerance (where the residual stays below it once there, at most 5 % of its sweeps
+  // after the first sweep that met it). false (the default; `sable fc3d`, whose sweep counts are
   // compared with Siconos'): after every sweep. A scenario chooses with [cd] residual_checks.
   bool spaced_checks = false;
 };
