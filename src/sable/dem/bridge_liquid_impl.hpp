@@ -62,8 +62,9 @@ void DemSolver<D, Laws>::move_bridge_liquid() {
       release_bridge(liquid, policy, i, j, pl.bridge[k]);
       pl.bridge[k] = PairList<D>::kNoBridge;
     } else {
-      const FormedBridge f{k, 0.5 * liquid.film[i], 0.5 * liquid.film[j]};
-      pl.bridge[k] = take_bridge_liquid(liquid, i, j);  // f.from_i + f.from_j
+      const BridgeTake t = take_bridge_liquid(liquid, i, j);
+      const FormedBridge f{k, t.from_i, t.from_j};
+      pl.bridge[k] = f.from_i + f.from_j;
       formed_.push_back(f);
       const bool ghost_i = (p.flags[i] & kGhost) != 0, ghost_j = (p.flags[j] & kGhost) != 0;
       if (ghost_i != ghost_j)

@@ -59,12 +59,16 @@ inline void release_bridge(LiquidState& l, RupturedLiquid policy, std::uint32_t 
   l.film[j] += 0.5 * volume;
 }
 
-// The liquid a new bridge between i and j takes: half of each grain's film.
-inline double take_bridge_liquid(LiquidState& l, std::uint32_t i, std::uint32_t j) {
-  const double vi = 0.5 * l.film[i], vj = 0.5 * l.film[j];
-  l.film[i] -= vi;
-  l.film[j] -= vj;
-  return vi + vj;
+// The liquid a new bridge between i and j takes: half of each grain's film, returned as the
+// two shares {from i, from j} (the bridge holds their sum, i's first).
+struct BridgeTake {
+  double from_i, from_j;
+};
+inline BridgeTake take_bridge_liquid(LiquidState& l, std::uint32_t i, std::uint32_t j) {
+  const BridgeTake t{0.5 * l.film[i], 0.5 * l.film[j]};
+  l.film[i] -= t.from_i;
+  l.film[j] -= t.from_j;
+  return t;
 }
 
 }  // namespace sable
