@@ -8,8 +8,9 @@ packages=(
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev libhdf5-dev
   # zlib-compressed VTK output (io/vtk_xml.hpp).
   zlib1g-dev
-  # MPI domain decomposition (src/sable/mpi, optional at configure time) and its tests.
-  libopenmpi-dev openmpi-bin
+  # MPI domain decomposition (src/sable/mpi, optional at configure time) and its tests; HDF5's
+  # MPI flavour writes a decomposed run's snapshots collectively (the MPI build uses it).
+  libopenmpi-dev openmpi-bin libhdf5-openmpi-dev
   # The Python module (apps/python, python/sable; docs/python.md).
   pybind11-dev python3-dev
   libgtest-dev libgmock-dev libbenchmark-dev

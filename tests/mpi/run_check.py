@@ -1,11 +1,12 @@
 """`mpirun -np N sable run` against `sable run`: the same state hash, the same series.csv
-byte for byte, snapshots that resume on any number of processes with the serial run's end
+byte for byte, snapshots (written by the processes together, parallel HDF5) holding the serial
+run's every dataset and attribute bit for bit, snapshots that resume on any number of processes with the serial run's end
 state, a failed grain stopping every process at the serial run's step, and a refusal (exit 2,
 the key named) for what does not run decomposed.
 
 Usage: run_check.py SABLE MPIEXEC WORKDIR SCENARIO CD_SCENARIO [MORE_SCENARIO ...]
-(each further scenario: its hash and series.csv on 2, 3 and 4 processes against the serial
-run's, and its first step_*.h5 snapshot of 4 processes resumed on 3)
+(each further scenario: its hash, series.csv and snapshots on 2, 3 and 4 processes against
+the serial run's, and its first step_*.h5 snapshot of 4 processes resumed on 3)
 
 The promise (docs/ARCHITECTURE.md, "Domain decomposition"): one global order of every sum, so
 the bits of a serial run for any number of processes. Every comparison here is exact: a
@@ -13,6 +14,9 @@ single bit apart fails.
 """
 import filecmp
 import os
+
+import h5py
+import numpy
 import re
 import shutil
 import subprocess
@@ -40,6 +44,35 @@ def final_hash(log):
     return m[-1]
 
 
+def h5_items(path):
+    """Every dataset (dtype, shape, raw bytes) and attribute of an HDF5 file, by path."""
+    items = {}
+
+    def visit(name, obj):
+        for key, value in obj.attrs.items():
+            items[f"{name}@{key}"] = numpy.asarray(value).tobytes()
+        if isinstance(obj, h5py.Dataset):
+            value = obj[()]
+            items[name] = (str(obj.dtype), obj.shape, numpy.asarray(value).tobytes())
+
+    with h5py.File(path, "r") as f:
+        visit("/", f)
+        f.visititems(visit)
+    return items
+
+
+def same_snapshots(dir_a, dir_b):
+    """The names of the snapshots of dir_b whose contents differ from dir_a's (or are missing)."""
+    differ = []
+    for name in sorted(os.listdir(os.path.join(dir_a, "snapshots"))):
+        a, b = (os.path.join(d, "snapshots", name) for d in (dir_a, dir_b))
+        ia, ib = h5_items(a), h5_items(b) if os.path.exists(b) else {}
+        bad = sorted(k for k in set(ia) | set(ib) if ia.get(k) != ib.get(k))
+        if bad:
+            differ.append(f"{name}: {', '.join(bad[:5])}")
+    return differ
+
+
 def check(what, ok):
     print(("ok    " if ok else "FAIL  ") + what)
     if not ok:
@@ -63,6 +96,9 @@ for np in (2, 3, 4):
     mine = sorted(os.listdir(os.path.join(out[np], "snapshots")))
     check(f"{np} processes: the same snapshots ({len(mine)})",
           mine == sorted(os.listdir(os.path.join(out[0], "snapshots"))))
+    differ = same_snapshots(out[0], out[np])
+    check(f"{np} processes: every snapshot's datasets and attributes the serial run's "
+          f"({differ or 'all equal'})", not differ)
     stages = re.findall(STAGE_LINE, log)
     check(f"{np} processes: the stages begin at the serial run's steps ({stages})",
           len(stages) == 2 and stages == re.findall(STAGE_LINE, serial_log))
@@ -81,6 +117,11 @@ for np in (0, 3):
                             os.path.join(WORK, f"resume-np{np}")]))
     check(f"{snaps[0]} of 4 processes resumed on {max(np, 1)}: state hash {h} "
           f"(serial {serial})", h == serial)
+# And the reverse: the serial run's snapshot resumed on 4 processes.
+h = final_hash(run(4, ["run", SCENARIO, "--resume", os.path.join(out[0], "snapshots", snaps[0]),
+                       "--out", os.path.join(WORK, "resume-serial-np4")]))
+check(f"{snaps[0]} of the serial run resumed on 4 processes: state hash {h} (serial {serial})",
+      h == serial)
 
 for k, scenario in enumerate(MORE):
     name = os.path.basename(scenario)
@@ -92,6 +133,10 @@ for k, scenario in enumerate(MORE):
         check(f"{name} on {np} processes: series.csv identical to the serial run's",
               filecmp.cmp(os.path.join(dirs[0], "series.csv"),
                           os.path.join(dirs[np], "series.csv"), shallow=False))
+        if os.path.isdir(os.path.join(dirs[0], "snapshots")):
+            differ = same_snapshots(dirs[0], dirs[np])
+            check(f"{name} on {np} processes: snapshots bit for bit the serial run's "
+                  f"({differ or 'all equal'})", not differ)
     snap_dir = os.path.join(dirs[4], "snapshots")
     steps = sorted(f for f in os.listdir(snap_dir) if f.startswith("step_")) \
         if os.path.isdir(snap_dir) else []

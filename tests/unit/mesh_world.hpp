@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <string>
 
+#include "bed_world.hpp"
 #include "sable/dem/dem_solver.hpp"
 #include "sable/geometry/surface_mesh.hpp"
 #include "sable/world/world.hpp"
@@ -46,19 +47,7 @@ template <int D>
 World<D> mesh_world(bool with_grains = true) {
   using Vec = typename Space<D>::Vec;
   World<D> w;
-  Material glass;
-  glass.name = "glass";
-  glass.density = 2500.0;
-  glass.young = 5.0e6;
-  glass.poisson = 0.25;
-  glass.restitution = 0.6;
-  glass.friction = 0.4;
-  Material steel = glass;
-  steel.name = "steel";
-  steel.young = 2.0e8;
-  w.materials.add(glass);
-  w.materials.add(steel);
-  w.materials.finalize();
+  const Material glass = add_glass_and_steel(w.materials);
   w.dt = 1.0e-5;
   w.gravity[D - 1] = -9.81;
   w.rng.reseed(11);

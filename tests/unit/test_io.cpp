@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bed_world.hpp"
 #include "sable/core/error.hpp"
 #include "sable/dem/dem_solver.hpp"
 #include "sable/io/atomic_file.hpp"
@@ -35,6 +36,7 @@ namespace fs = std::filesystem;
 using sable::InputError;
 using sable::RunPosition;
 using sable::World;
+using sable::test::make_world;
 
 // ---------------------------------------------------------------- fixtures and builders
 
@@ -78,110 +80,6 @@ std::string read_file(const std::string& p) {
 void write_file(const std::string& p, const std::string& text) {
   std::ofstream out(p, std::ios::binary);
   out << text;
-}
-
-// Drop the last grain as a future removal would: free its id (bumping the generation).
-template <int D>
-void remove_last(sable::ParticleStore<D>& p) {
-  p.ids.destroy(p.id.back());
-  p.for_each_array([](auto& array) { array.pop_back(); });
-}
-
-constexpr double kR = 0.005;  // grain radius (m)
-
-template <int D>
-void add_walls(World<D>& w) {
-  using Vec = typename sable::Space<D>::Vec;
-  sable::Wall<D> floor;
-  floor.name = "floor";
-  floor.material = 1;
-  floor.set_plane(Vec::Unit(D - 1));
-  w.walls.push_back(floor);
-  sable::Wall<D> ramp;  // tilted and moving: exercises wall_ref and the clipping code
-  ramp.name = "ramp";
-  ramp.material = 1;
-  ramp.point = Vec::Constant(0.0);
-  ramp.point[0] = 0.12;
-  Vec ramp_normal = Vec::Constant(0.3);
-  ramp_normal[0] = -1.0;
-  ramp.set_plane(ramp_normal.normalized());
-  ramp.velocity = Vec::Zero();
-  ramp.velocity[0] = -0.05;
-  w.walls.push_back(ramp);
-  if constexpr (D == 3) {
-    sable::Wall<D> drum;
-    drum.name = "drum";
-    drum.material = 1;
-    drum.point = Vec(0.05, 0.05, 0.0);
-    drum.set_cylinder(0.08);
-    w.walls.push_back(drum);
-  }
-}
-
-// A small, jittered, slightly overlapping packing on a floor, with gravity, a fixed grain,
-// a moving tilted wall, (3D) a drum, and a non-empty id free list. `with_grains = false`
-// gives the world a resumed run builds from its scenario before loading a snapshot;
-// `rolling`, rolling resistance (mu_r = 0.1, the lists carrying springs).
-template <int D>
-World<D> make_world(bool with_grains = true, bool rolling = false) {
-  using Vec = typename sable::Space<D>::Vec;
-  World<D> w;
-  sable::Material glass;
-  glass.name = "glass";
-  glass.density = 2500.0;
-  glass.young = 5.0e6;
-  glass.poisson = 0.25;
-  glass.restitution = 0.6;
-  glass.friction = 0.4;
-  glass.rolling_friction = rolling ? 0.1 : 0.0;
-  sable::Material steel = glass;
-  steel.name = "steel";
-  steel.young = 2.0e8;
-  w.materials.add(glass);
-  w.materials.add(steel);
-  w.materials.finalize();
-  if (rolling) {
-    w.model.rolling = sable::RollingModel::kEpsd;
-    w.neighbors.rolling = true;
-  }
-  w.dt = 1.0e-5;
-  w.gravity[D - 1] = -9.81;
-  w.rng.reseed(42);
-  add_walls(w);
-  w.neighbors.skin = 0.04 * kR;
-  w.neighbors.domain_lo = Vec::Constant(-0.03);
-  w.neighbors.domain_lo[D - 1] = 0.0;
-  w.neighbors.domain_hi = Vec::Constant(0.13);
-  w.neighbors.domain_hi[D - 1] = 0.1;
-  if (!with_grains) return w;
-  const int layers = D == 3 ? 3 : 4, nx = D == 3 ? 4 : 6;
-  const int ny = D == 3 ? 4 : 1;
-  for (int l = 0; l < layers; ++l) {
-    for (int j = 0; j < ny; ++j) {
-      for (int i = 0; i < nx; ++i) {
-        Vec x = Vec::Constant(0.03 + 1.98 * kR * j);
-        x[0] = 0.03 + 1.98 * kR * i + w.rng.uniform(-1e-5, 1e-5);
-        x[D - 1] = 0.98 * kR + 1.98 * kR * l;
-        const double r = kR * (1.0 + w.rng.uniform(-0.01, 0.01));
-        const auto id = w.particles.add(x, r, glass.density, 0, w.thickness);
-        const auto k = w.particles.ids.slot(id);
-        for (int d = 0; d < D; ++d) w.particles.v[k][d] = w.rng.uniform(-0.01, 0.01);
-      }
-    }
-  }
-  Vec side = Vec::Constant(0.03);
-  side[0] = 0.03 - 1.98 * kR;
-  side[D - 1] = 0.98 * kR;
-  w.particles.add(side, kR, glass.density, 0, w.thickness, /*is_fixed=*/true);
-  // Two grains removed again, then one added: a reused id of generation 1 and a free entry.
-  Vec top = Vec::Constant(0.05);
-  top[D - 1] = 0.09;
-  w.particles.add(top, kR, glass.density, 0, w.thickness);
-  w.particles.add(top + Vec::Constant(3 * kR), kR, glass.density, 0, w.thickness);
-  remove_last(w.particles);
-  remove_last(w.particles);
-  w.particles.add(top, kR, glass.density, 0, w.thickness);
-  return w;
 }
 
 std::size_t touching_pairs(const auto& list) {
@@ -257,7 +155,8 @@ TEST_F(IoTest, VtkFileWrittenInPiecesIsWhole) {
   World<3> w = make_world<3>();
   for (int row = 0; row < 80; ++row)
     for (int col = 0; col < 100; ++col)
-      w.particles.add(Eigen::Vector3d(0.001 * col, 0.001 * row, 0.2), kR, 2500.0, 0, w.thickness);
+      w.particles.add(Eigen::Vector3d(0.001 * col, 0.001 * row, 0.2), sable::test::kBedR, 2500.0, 0,
+                      w.thickness);
   const std::size_t n = w.particles.size();
   sable::write_grains_vtp(w, path("big.vtp"), sable::VtkEncoding::kAscii);
   EXPECT_GT(fs::file_size(path("big.vtp")), 4u * 65536u) << "the test must span several pieces";

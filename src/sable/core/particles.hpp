@@ -27,8 +27,9 @@ enum ParticleFlags : std::uint8_t {
 enum class ShapeKind : std::uint8_t { kRound = 0 };
 
 // A new per-grain field goes into for_each_array() (GrainReorder moves the grains' slots
-// through it), add(), the snapshot (io/snapshot.cpp) and the state hash (world/state_hash.hpp);
-// the static_assert below the struct stops the build until the count there is raised.
+// through it), add(), the snapshot (io/snapshot_write.cpp, read by io/snapshot.cpp) and the state
+// hash (world/state_hash.hpp); the static_assert below the struct stops the build until the count
+// there is raised.
 template <int D>
 struct ParticleStore {
   using S = Space<D>;

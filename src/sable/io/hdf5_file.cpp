@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <stdexcept>
 
 #include "sable/core/error.hpp"
 
@@ -143,6 +144,15 @@ File File::create(const std::string& path, const std::string& label) {
   return File(std::move(f), label, true);
 }
 
+File File::create(const std::string& path, const std::string& label, const Collective& c) {
+  silence_errors();
+  Id f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, c.file_access), H5Fclose);
+  if (!f.valid()) throw IoError(fmt::format("{}: cannot create: {}", label, error_detail()));
+  File file(std::move(f), label, true);
+  file.collective_ = c;
+  return file;
+}
+
 File File::open(const std::string& path, const std::string& label, bool writable) {
   silence_errors();
   namespace fs = std::filesystem;
@@ -173,32 +183,94 @@ void File::close() {
   if (file_.reset() < 0) fail(fmt::format("cannot finish writing the file: {}", error_detail()));
 }
 
+Id File::create_dataset(const std::string& dset, hid_t type, hid_t space, hid_t create_plist) {
+  Id lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+  H5Pset_create_intermediate_group(lcpl.get(), 1);
+  Id d(H5Dcreate2(file_.get(), dset.c_str(), type, space, lcpl.get(), create_plist, H5P_DEFAULT),
+       H5Dclose);
+  if (!d.valid()) fail(fmt::format("cannot create dataset '{}': {}", dset, error_detail()));
+  return d;
+}
+
+void File::write_whole(const std::string& dset, hid_t d, hid_t type, hid_t space,
+                       const void* data) {
+  herr_t status = 0;
+  if (!collective_) {
+    status = H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
+  } else if (collective_->root) {
+    status = H5Dwrite(d, type, H5S_ALL, H5S_ALL, collective_->transfer, data);
+  } else {
+    // Every process takes part in a collective write; the others select nothing.
+    Id none(H5Scopy(space), H5Sclose);
+    H5Sselect_none(none.get());
+    status = H5Dwrite(d, type, none.get(), none.get(), collective_->transfer, data);
+  }
+  if (status < 0) fail(fmt::format("cannot write dataset '{}': {}", dset, error_detail()));
+}
+
 void File::write_raw(const std::string& dset, hid_t type, const void* data, hsize_t rows,
                      hsize_t cols) {
   const hsize_t dims[2] = {rows, cols};
   Id space(H5Screate_simple(cols == 0 ? 1 : 2, dims, nullptr), H5Sclose);
-  Id lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
-  H5Pset_create_intermediate_group(lcpl.get(), 1);
-  Id d(H5Dcreate2(file_.get(), dset.c_str(), type, space.get(), lcpl.get(), H5P_DEFAULT,
-                  H5P_DEFAULT),
-       H5Dclose);
-  if (!d.valid()) fail(fmt::format("cannot create dataset '{}': {}", dset, error_detail()));
+  Id d = create_dataset(dset, type, space.get());
   // An empty dataset has nothing to write (and HDF5 rejects a null buffer).
   if (rows * std::max<hsize_t>(cols, 1) == 0) return;
-  if (H5Dwrite(d.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
+  write_whole(dset, d.get(), type, space.get(), data);
+}
+
+void File::write_rows_raw(const std::string& dset, hid_t type, const void* data,
+                          const std::vector<std::uint64_t>& rows, hsize_t total, hsize_t cols,
+                          const void* fill) {
+  const int rank = cols == 0 ? 1 : 2;
+  const hsize_t width = std::max<hsize_t>(cols, 1);
+  const hsize_t dims[2] = {total, cols};
+  Id space(H5Screate_simple(rank, dims, nullptr), H5Sclose);
+  Id dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  H5Pset_fill_value(dcpl.get(), type, fill);
+  // Storage and fill values at creation (parallel HDF5's only choice, kept alike serially): a
+  // row no process writes is stored, and reads as `fill`.
+  H5Pset_alloc_time(dcpl.get(), H5D_ALLOC_TIME_EARLY);
+  H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_ALLOC);
+  Id d = create_dataset(dset, type, space.get(), dcpl.get());
+  if (total * width == 0) return;  // the same on every process: none writes
+  // Each value by its coordinates, in the order of `data` (a point selection keeps the
+  // order it is given; a hyperslab's would be the file's).
+  const hsize_t n = rows.size() * width;
+  std::vector<hsize_t> at(n * static_cast<hsize_t>(rank));
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    if (rows[k] >= total)
+      throw std::logic_error(
+          fmt::format("{}: row {} of dataset '{}' past its {} rows", label_, rows[k], dset, total));
+    for (hsize_t c = 0; c < width; ++c) {
+      const hsize_t e = k * width + c;
+      if (rank == 1) {
+        at[e] = rows[k];
+      } else {
+        at[2 * e] = rows[k];
+        at[2 * e + 1] = c;
+      }
+    }
+  }
+  const hsize_t mem_dims[1] = {std::max<hsize_t>(n, 1)};
+  Id mem(H5Screate_simple(1, mem_dims, nullptr), H5Sclose);
+  if (n == 0) {
+    H5Sselect_none(space.get());
+    H5Sselect_none(mem.get());
+  } else if (H5Sselect_elements(space.get(), H5S_SELECT_SET, n, at.data()) < 0) {
+    fail(fmt::format("cannot select the rows of dataset '{}': {}", dset, error_detail()));
+  }
+  // A process with no rows still takes part (collective); HDF5 wants a buffer all the same.
+  const void* buf = n == 0 ? fill : data;
+  const hid_t transfer = collective_ ? collective_->transfer : H5P_DEFAULT;
+  if (H5Dwrite(d.get(), type, mem.get(), space.get(), transfer, buf) < 0)
     fail(fmt::format("cannot write dataset '{}': {}", dset, error_detail()));
 }
 
 void File::write_string(const std::string& dset, const std::string& text) {
   Id type = string_type(text.size() + 1);
   Id space(H5Screate(H5S_SCALAR), H5Sclose);
-  Id lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
-  H5Pset_create_intermediate_group(lcpl.get(), 1);
-  Id d(H5Dcreate2(file_.get(), dset.c_str(), type.get(), space.get(), lcpl.get(), H5P_DEFAULT,
-                  H5P_DEFAULT),
-       H5Dclose);
-  if (!d.valid() || H5Dwrite(d.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, text.c_str()) < 0)
-    fail(fmt::format("cannot write dataset '{}': {}", dset, error_detail()));
+  Id d = create_dataset(dset, type.get(), space.get());
+  write_whole(dset, d.get(), type.get(), space.get(), text.c_str());
 }
 
 void File::write_strings(const std::string& dset, const std::vector<std::string>& texts) {
@@ -210,15 +282,8 @@ void File::write_strings(const std::string& dset, const std::vector<std::string>
   Id type = string_type(width);
   const hsize_t dims[1] = {texts.size()};
   Id space(H5Screate_simple(1, dims, nullptr), H5Sclose);
-  Id lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
-  H5Pset_create_intermediate_group(lcpl.get(), 1);
-  Id d(H5Dcreate2(file_.get(), dset.c_str(), type.get(), space.get(), lcpl.get(), H5P_DEFAULT,
-                  H5P_DEFAULT),
-       H5Dclose);
-  if (!d.valid()) fail(fmt::format("cannot create dataset '{}': {}", dset, error_detail()));
-  if (!texts.empty() &&
-      H5Dwrite(d.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data()) < 0)
-    fail(fmt::format("cannot write dataset '{}': {}", dset, error_detail()));
+  Id d = create_dataset(dset, type.get(), space.get());
+  if (!texts.empty()) write_whole(dset, d.get(), type.get(), space.get(), buf.data());
 }
 
 void File::write_attr_raw(const std::string& obj, const std::string& name, hid_t type,
@@ -370,6 +435,24 @@ void File::read_raw(const std::string& dset, hid_t type, void* out, std::size_t 
   Id d = open_dataset(dset);
   if (H5Dread(d.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) < 0)
     fail(fmt::format("cannot read dataset '{}': {}", dset, error_detail()));
+}
+
+void File::read_block_raw(const std::string& dset, hid_t type, hsize_t cols, hsize_t first,
+                          hsize_t count, void* out) const {
+  const Shape s = check_shape(dset, type, cols, {}, {});
+  if (first > s.rows || count > s.rows - first)
+    fail(fmt::format("dataset '{}' has {} rows; cannot read rows [{}, {})", dset, s.rows, first,
+                     first + count));
+  if (count == 0) return;
+  Id d = open_dataset(dset);
+  Id file_space(H5Dget_space(d.get()), H5Sclose);
+  const int rank = cols == 0 ? 1 : 2;
+  const hsize_t start[2] = {first, 0}, size[2] = {count, cols};
+  Id mem_space(H5Screate_simple(rank, size, nullptr), H5Sclose);
+  if (H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, size, nullptr) < 0 ||
+      H5Dread(d.get(), type, mem_space.get(), file_space.get(), H5P_DEFAULT, out) < 0)
+    fail(fmt::format("cannot read rows [{}, {}) of dataset '{}': {}", first, first + count, dset,
+                     error_detail()));
 }
 
 void File::read_attr_raw(const std::string& obj, const std::string& name, hid_t type,

@@ -83,9 +83,20 @@ struct Shape {
 
 class File {
  public:
+  // Several processes write one file together (parallel HDF5; src/sable/mpi makes the
+  // property lists). Each of them makes every call, with the same dataset names, shapes and
+  // attribute values; a whole dataset's values are written by the root alone, and
+  // write_rows() writes each process's own rows.
+  struct Collective {
+    hid_t file_access;  // the MPI-IO driver on the processes' communicator
+    hid_t transfer;     // collective transfers
+    bool root;
+  };
+
   // Create (truncate) `path` for writing. `label` names the file in messages (the final
   // name of an atomic write, not its temporary).
   static File create(const std::string& path, const std::string& label);
+  static File create(const std::string& path, const std::string& label, const Collective& c);
   // Open an existing file read-only (or read-write) after checking it exists and is HDF5.
   static File open(const std::string& path, const std::string& label, bool writable = false);
 
@@ -106,6 +117,14 @@ class File {
   template <class T>
   void write(const std::string& dset, const T* data, hsize_t rows, hsize_t cols) {
     write_raw(dset, native_type<T>(), data, rows, cols);
+  }
+  // A dataset of `total` rows of `cols` values each (0: 1-D) of which this process writes
+  // row rows[k] from the k-th row of `data` (distinct rows); a row no process writes holds
+  // `fill`.
+  template <class T>
+  void write_rows(const std::string& dset, const T* data, const std::vector<std::uint64_t>& rows,
+                  hsize_t total, hsize_t cols, T fill = T{}) {
+    write_rows_raw(dset, native_type<T>(), data, rows, total, cols, &fill);
   }
   void write_string(const std::string& dset, const std::string& text);
   void write_strings(const std::string& dset, const std::vector<std::string>& texts);
@@ -129,6 +148,14 @@ class File {
     read_raw(dset, native_type<T>(), out.data(), out.size());
     return out;
   }
+  // Rows [first, first + count) of a dataset of `cols` columns (0: 1-D) into `out`, which has
+  // room for count * max(cols, 1) values: a block of a dataset too large to hold whole. Reading
+  // past the dataset's last row is an error naming it.
+  template <class T>
+  void read_block(const std::string& dset, hsize_t cols, hsize_t first, hsize_t count,
+                  T* out) const {
+    read_block_raw(dset, native_type<T>(), cols, first, count, out);
+  }
   std::string read_string(const std::string& dset) const;
   std::vector<std::string> read_strings(const std::string& dset) const;
   template <class T>
@@ -143,11 +170,22 @@ class File {
   File(Id file, std::string label, bool writing)
       : file_(std::move(file)), label_(std::move(label)), writing_(writing) {}
   void write_raw(const std::string& dset, hid_t type, const void* data, hsize_t rows, hsize_t cols);
+  void write_rows_raw(const std::string& dset, hid_t type, const void* data,
+                      const std::vector<std::uint64_t>& rows, hsize_t total, hsize_t cols,
+                      const void* fill);
+  // A new dataset (its groups made as needed) of `type` over `space`.
+  Id create_dataset(const std::string& dset, hid_t type, hid_t space,
+                    hid_t create_plist = H5P_DEFAULT);
+  // Writes all of dataset `d` (over `space`) from `data`; when processes write together,
+  // only the root's values go in.
+  void write_whole(const std::string& dset, hid_t d, hid_t type, hid_t space, const void* data);
   void write_attr_raw(const std::string& obj, const std::string& name, hid_t type,
                       const void* value);
   Shape check_shape(const std::string& dset, hid_t type, hsize_t cols, std::optional<hsize_t> rows,
                     const std::string& rows_why) const;
   void read_raw(const std::string& dset, hid_t type, void* out, std::size_t count) const;
+  void read_block_raw(const std::string& dset, hid_t type, hsize_t cols, hsize_t first,
+                      hsize_t count, void* out) const;
   void read_attr_raw(const std::string& obj, const std::string& name, hid_t type,
                      void* value) const;
   Id open_dataset(const std::string& dset) const;
@@ -159,6 +197,7 @@ class File {
   Id file_;
   std::string label_;
   bool writing_;  // created by create(): a failure is an IoError, not bad input
+  std::optional<Collective> collective_;
 };
 
 }  // namespace sable::h5

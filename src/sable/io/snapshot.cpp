@@ -12,65 +12,14 @@
 #include <utility>
 
 #include "sable/core/error.hpp"
-#include "sable/io/atomic_file.hpp"
 #include "sable/io/hdf5_file.hpp"
+#include "sable/io/snapshot_pack.hpp"
 
 namespace sable {
 
 namespace {
 
-// How one element of a per-grain array lays out as a row of doubles in a dataset.
-template <class T>
-struct Pack;
-
-template <>
-struct Pack<double> {
-  static constexpr hsize_t cols = 1;
-  static void put(double x, double* out) { out[0] = x; }
-  static double get(const double* in) { return in[0]; }
-};
-
-template <int K>
-struct Pack<Eigen::Matrix<double, K, 1>> {
-  using T = Eigen::Matrix<double, K, 1>;
-  static constexpr hsize_t cols = K;
-  static void put(const T& x, double* out) {
-    for (int k = 0; k < K; ++k) out[k] = x[k];
-  }
-  static T get(const double* in) {
-    T x;
-    for (int k = 0; k < K; ++k) x[k] = in[k];
-    return x;
-  }
-};
-
-template <>
-struct Pack<Eigen::Quaterniond> {
-  static constexpr hsize_t cols = 4;  // w, x, y, z
-  static void put(const Eigen::Quaterniond& q, double* out) {
-    out[0] = q.w();
-    out[1] = q.x();
-    out[2] = q.y();
-    out[3] = q.z();
-  }
-  static Eigen::Quaterniond get(const double* in) {
-    return Eigen::Quaterniond(in[0], in[1], in[2], in[3]);
-  }
-};
-
-template <class T>
-void write_rows(h5::File& f, const std::string& name, const std::vector<T>& v) {
-  constexpr hsize_t cols = Pack<T>::cols;
-  if constexpr (sizeof(T) == cols * sizeof(double) && !std::is_same_v<T, Eigen::Quaterniond>) {
-    // A double or a fixed-size Eigen vector is its coefficients in order, without padding:
-    // written in place, without a copy (the pair lists' are the largest arrays of a run).
-    f.write(name, reinterpret_cast<const double*>(v.data()), v.size(), cols);
-    return;
-  }
-  std::vector<double> flat(v.size() * cols);
-  for (std::size_t k = 0; k < v.size(); ++k) Pack<T>::put(v[k], flat.data() + k * cols);
-  f.write(name, flat, cols);
-}
+using snapshot_detail::Pack;
 
 template <class T>
 std::vector<T> read_rows(const h5::File& f, const std::string& name,
@@ -81,131 +30,6 @@ std::vector<T> read_rows(const h5::File& f, const std::string& name,
   out.reserve(flat.size() / cols);
   for (std::size_t k = 0; k < flat.size(); k += cols) out.push_back(Pack<T>::get(flat.data() + k));
   return out;
-}
-
-template <int D>
-void write_header(h5::File& f, const World<D>& w, const RunPosition& pos,
-                  const std::string& scenario_text, const std::string& scenario_path) {
-  f.write_string("/scenario", scenario_text);
-  if (!scenario_path.empty()) f.write_string("/scenario_path", scenario_path);
-  const auto rng = w.rng.state();
-  f.write("/rng_state", std::vector<std::uint64_t>(rng.begin(), rng.end()));
-  f.write_attr_string("/", "format", kSnapshotFormat);
-  f.write_attr("/", "version", kSnapshotVersion);
-  f.write_attr("/", "dimension", std::int32_t{D});
-  f.write_attr("/", "step", w.step);
-  f.write_attr("/", "time", w.time);
-  f.write_attr("/", "dt", w.dt);
-  f.write_attr("/", "stage", pos.stage);
-  f.write_attr("/", "stage_step", pos.stage_step);
-  f.write_attr("/", "state_hash", state_hash(w));
-}
-
-template <int D>
-void write_particles(h5::File& f, const ParticleStore<D>& p) {
-  write_rows(f, "/particles/x", p.x);
-  write_rows(f, "/particles/v", p.v);
-  write_rows(f, "/particles/w", p.omega);
-  write_rows(f, "/particles/f", p.f);
-  write_rows(f, "/particles/t", p.t);
-  write_rows(f, "/particles/q", p.q);
-  f.write("/particles/radius", p.radius);
-  f.write("/particles/inv_mass", p.inv_mass);
-  f.write("/particles/inv_inertia", p.inv_inertia);
-  f.write("/particles/mass", p.mass);
-  f.write("/particles/material", p.material);
-  f.write("/particles/flags", p.flags);
-  std::vector<std::uint8_t> shape(p.size());
-  std::vector<std::uint32_t> id(2 * p.size());
-  for (std::size_t k = 0; k < p.size(); ++k) {
-    shape[k] = static_cast<std::uint8_t>(p.shape[k]);
-    id[2 * k] = p.id[k].index;
-    id[2 * k + 1] = p.id[k].generation;
-  }
-  f.write("/particles/shape", shape);
-  f.write("/particles/id", id, 2);
-  f.write("/particles/order_key", p.order_key);
-  f.write("/particles/ids/slots", p.ids.slots());
-  f.write("/particles/ids/generations", p.ids.generations());
-  f.write("/particles/ids/free_list", p.ids.free_list());
-}
-
-template <int D>
-void write_walls(h5::File& f, const std::vector<Wall<D>>& walls) {
-  std::vector<std::string> names;
-  std::vector<typename Space<D>::Vec> point, velocity, force, pivot;
-  std::vector<typename Space<D>::Orientation> orientation;
-  std::vector<typename Space<D>::Rot> spin, torque;
-  std::vector<std::uint32_t> pivoted;
-  for (const auto& wall : walls) {
-    names.push_back(wall.name);
-    point.push_back(wall.point);
-    velocity.push_back(wall.velocity);
-    force.push_back(wall.force);
-    orientation.push_back(wall.orientation);
-    spin.push_back(wall.spin);
-    pivot.push_back(wall.pivot);
-    pivoted.push_back(wall.pivoted ? 1 : 0);
-    torque.push_back(wall.torque);
-  }
-  f.write_strings("/walls/names", names);
-  write_rows(f, "/walls/point", point);
-  write_rows(f, "/walls/velocity", velocity);
-  write_rows(f, "/walls/force", force);
-  write_rows(f, "/walls/orientation", orientation);
-  write_rows(f, "/walls/spin", spin);
-  write_rows(f, "/walls/pivot", pivot);
-  f.write("/walls/pivoted", pivoted);
-  write_rows(f, "/walls/torque", torque);
-}
-
-template <int D>
-void write_neighbors(h5::File& f, const NeighborList<D>& nl) {
-  f.write("/neighbors/domain_lo",
-          std::vector<double>(nl.domain_lo.data(), nl.domain_lo.data() + D));
-  f.write("/neighbors/domain_hi",
-          std::vector<double>(nl.domain_hi.data(), nl.domain_hi.data() + D));
-  write_rows(f, "/neighbors/x_ref", nl.x_ref);
-  write_rows(f, "/neighbors/wall_ref", nl.wall_ref);
-  write_rows(f, "/neighbors/wall_ref_turn", nl.wall_ref_turn);
-  f.write("/neighbors/wall_reach", nl.wall_reach);
-  f.write("/neighbors/pairs/i", nl.pairs.i);
-  f.write("/neighbors/pairs/j", nl.pairs.j);
-  write_rows(f, "/neighbors/pairs/shear", nl.pairs.shear);
-  write_rows(f, "/neighbors/pairs/force", nl.pairs.force);
-  f.write("/neighbors/wall_pairs/i", nl.wall_pairs.i);
-  f.write("/neighbors/wall_pairs/wall", nl.wall_pairs.wall);
-  f.write("/neighbors/wall_pairs/element", nl.wall_pairs.element);
-  f.write("/neighbors/wall_pairs/feature", nl.wall_pairs.feature);
-  write_rows(f, "/neighbors/wall_pairs/shear", nl.wall_pairs.shear);
-  write_rows(f, "/neighbors/wall_pairs/force", nl.wall_pairs.force);
-  f.write_attr("/neighbors", "skin", nl.skin);
-  f.write_attr("/neighbors", "builds", nl.builds);
-}
-
-// Rolling springs (contact/rolling.hpp), only for a law with rolling resistance.
-template <int D>
-void write_rolling(h5::File& f, const NeighborList<D>& nl) {
-  if (!nl.rolling) return;
-  // The builder, both solvers and load_snapshot keep one spring per entry; padding here would
-  // write springs the state hash did not see (an unloadable file).
-  if (nl.pairs.roll.size() != nl.pairs.size() || nl.wall_pairs.roll.size() != nl.wall_pairs.size())
-    throw std::logic_error("snapshot: the rolling springs do not match the contact lists");
-  write_rows(f, "/neighbors/pairs/roll", nl.pairs.roll);
-  write_rows(f, "/neighbors/wall_pairs/roll", nl.wall_pairs.roll);
-}
-
-// Capillary bridges and the grains' films, only for a wet contact law (world/liquid.hpp).
-template <int D>
-void write_liquid(h5::File& f, const World<D>& w) {
-  if (!w.neighbors.bridges) return;
-  const auto& pl = w.neighbors.pairs;
-  f.write("/neighbors/pairs/bridge", pl.bridge.size() == pl.size()
-                                         ? pl.bridge
-                                         : std::vector<double>(pl.size(), PairList<D>::kNoBridge));
-  f.write("/liquid/film", w.liquid.film);
-  f.write_attr("/liquid", "total", w.liquid.total);
-  f.write_attr("/liquid", "lost", w.liquid.lost);
 }
 
 // --- reading
@@ -637,21 +461,6 @@ void swap_state(World<D>& w, Loaded<D>& s) {
 }  // namespace
 
 template <int D>
-void save_snapshot(const World<D>& world, const RunPosition& pos, const std::string& scenario_text,
-                   const std::string& path, const std::string& scenario_path) {
-  write_atomic(path, [&](const std::string& tmp) {
-    h5::File f = h5::File::create(tmp, fmt::format("snapshot '{}'", path));
-    write_header(f, world, pos, scenario_text, scenario_path);
-    write_particles(f, world.particles);
-    write_walls(f, world.walls);
-    write_neighbors(f, world.neighbors);
-    write_liquid(f, world);
-    write_rolling(f, world.neighbors);
-    f.close();
-  });
-}
-
-template <int D>
 RunPosition load_snapshot(const std::string& path, World<D>& world, std::string* scenario_text) {
   const h5::File f = open_snapshot(path);
   const auto dim = f.read_attr<std::int32_t>("/", "dimension");
@@ -720,10 +529,6 @@ SnapshotInfo read_snapshot_info(const std::string& path) {
   return info;
 }
 
-template void save_snapshot<2>(const World<2>&, const RunPosition&, const std::string&,
-                               const std::string&, const std::string&);
-template void save_snapshot<3>(const World<3>&, const RunPosition&, const std::string&,
-                               const std::string&, const std::string&);
 template RunPosition load_snapshot<2>(const std::string&, World<2>&, std::string*);
 template RunPosition load_snapshot<3>(const std::string&, World<3>&, std::string*);
 

@@ -34,6 +34,7 @@
 #include <cstdint>
 #include <string>
 
+#include "sable/world/snapshot_part.hpp"
 #include "sable/world/state_hash.hpp"
 #include "sable/world/world.hpp"
 
@@ -55,6 +56,21 @@ struct RunPosition {
 template <int D>
 void save_snapshot(const World<D>& world, const RunPosition& pos, const std::string& scenario_text,
                    const std::string& path, const std::string& scenario_path = "");
+
+// A decomposed run's snapshot (collective: every process calls it with its share): each
+// process writes its rows of the file `part.temp_path`, which then holds what save_snapshot()
+// of the gathered World would write, but the state hash. `path` is the snapshot's final name
+// (for messages). Every process must then have returned before process 0 seals the file.
+template <int D>
+void save_snapshot_part(const SnapshotPart<D>& part, const RunPosition& pos,
+                        const std::string& scenario_text, const std::string& path,
+                        const std::string& scenario_path = "");
+// Process 0, after save_snapshot_part() on every process: the state hash, computed from the
+// file a block of rows at a time (io/snapshot_hash.hpp; `like` is this process's World, for
+// what every process holds alike), then `temp` renamed over `path`. On failure `temp` is
+// removed and `path` left as it was.
+template <int D>
+void seal_snapshot(const std::string& temp, const std::string& path, const World<D>& like);
 
 // Overwrite the dynamic state of `world` (already built from the snapshot's scenario) with the
 // snapshot's. Throws InputError naming the file and the offending dataset or attribute if the

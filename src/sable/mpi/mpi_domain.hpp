@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "sable/mpi/rcb.hpp"
@@ -42,6 +43,10 @@ class MpiDomain final : public Domain<D> {
   static constexpr int kEveryProcess = -1;
   void gather(const World<D>& w, World<D>& whole, int root) const;
   void exchange_bridge_shares(const World<D>& w, std::vector<BridgeShare>& shares) override;
+  // mpi/mpi_snapshot.cpp: this process's rows of a snapshot all processes write together.
+  bool snapshot_part(const World<D>& w, const std::string& path,
+                     SnapshotPart<D>& part) const override;
+  void barrier() const override;
 
   // What this process sent, since it was made: for the scaling model (docs/BENCHMARKS.md).
   struct Traffic {
@@ -67,6 +72,20 @@ class MpiDomain final : public Domain<D> {
  private:
   using Clock = std::chrono::steady_clock;
   void cut(const World<D>& w);
+  // snapshot_part()'s steps (mpi/mpi_snapshot.cpp): every local grain's global slot (ghosts'
+  // from their owners), given the entries each owned grain heads (pairs, walls), with the
+  // file rows of its first entries; the share renumbered; parallel HDF5's property lists.
+  std::vector<std::uint64_t> global_slots(const World<D>& w,
+                                          const std::vector<std::uint32_t>& pairs,
+                                          const std::vector<std::uint32_t>& walls,
+                                          std::vector<std::uint64_t>& pair_row,
+                                          std::vector<std::uint64_t>& wall_row) const;
+  void ghost_slots(std::vector<std::uint64_t>& slot) const;
+  void fill_part(const World<D>& w, const std::vector<std::uint64_t>& slot,
+                 const std::vector<std::uint32_t>& pe, const std::vector<std::uint32_t>& we,
+                 std::vector<std::uint64_t>& pair_row, std::vector<std::uint64_t>& wall_row,
+                 SnapshotPart<D>& part) const;
+  void open_lists(const std::string& path, SnapshotPart<D>& part) const;
   std::vector<std::int64_t> work_weights(const World<D>& w);
   // Times the MPI calls (waiting included) in its scope, so that the time between two cuts
   // less the time in MPI is this process's work.
@@ -109,6 +128,7 @@ class MpiDomain final : public Domain<D> {
   // refresh_ghosts()' buffers, kept from step to step.
   static constexpr int kMotionTag = 7301;
   static constexpr int kBridgeTag = 7302;
+  static constexpr int kSlotTag = 7303;
   std::vector<std::vector<char>> motion_out_;
   std::vector<std::vector<BridgeShare>> shares_out_;  // exchange_bridge_shares()' buffers
   std::vector<char> motion_in_;

@@ -285,9 +285,11 @@ void install(World<D>& w, LocalState<D>&& local) {
   });
   if (local.film.size() != order.size())
     throw IoError("mpi: a process's grains and their liquid films do not match");
-  // A world is wet on every process or on none (LiquidState::total is global).
+  // A world is wet on every process or on none (LiquidState::total is global); a capillary
+  // law's solver keeps films (zeros) before the wetting too, on every process alike.
+  const bool films = w.liquid.wet() || !w.liquid.film.empty();
   w.liquid.film.clear();
-  if (w.liquid.wet())
+  if (films)
     for (std::uint32_t k : order) w.liquid.film.push_back(local.film[k]);
   std::uint32_t max_index = 0;
   for (const ParticleId& id : p.id) max_index = std::max(max_index, id.index);

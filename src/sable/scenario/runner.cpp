@@ -97,15 +97,26 @@ void Simulation<D>::save(const std::string& path) const {
 // path relative to the sidecar's folder.
 template <int D>
 void Simulation<D>::save(const fs::path& path, const fs::path& sidecar) const {
-  const World<D>& w = whole();
-  if (!root()) return;
   std::error_code ec;
   const fs::path scenario = fs::absolute(cfg_.path, ec);
-  save_snapshot(w, pos_, cfg_.text, path.string(), ec ? std::string() : scenario.string());
+  const std::string scenario_path = ec ? std::string() : scenario.string();
+  std::size_t grains = 0;
+  if (SnapshotPart<D> part; domain_->snapshot_part(world_, path.string(), part)) {
+    // A decomposed run: the processes write their rows of one file together; process 0
+    // seals it (the state hash) once every one has written.
+    save_snapshot_part(part, pos_, cfg_.text, path.string(), scenario_path);
+    domain_->barrier();
+    if (!root()) return;
+    seal_snapshot(part.temp_path, path.string(), world_);
+    grains = part.grains;
+  } else {
+    save_snapshot(world_, pos_, cfg_.text, path.string(), scenario_path);
+    grains = world_.particles.size();
+  }
   const fs::path folder = sidecar.parent_path().empty() ? fs::path(".") : sidecar.parent_path();
   const fs::path relative = fs::relative(path, folder, ec);
-  write_xdmf({(ec || relative.empty() ? fs::absolute(path) : relative).generic_string(), D,
-              w.particles.size(), w.time},
+  write_xdmf({(ec || relative.empty() ? fs::absolute(path) : relative).generic_string(), D, grains,
+              world_.time},
              sidecar.string());
 }
 

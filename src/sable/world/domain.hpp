@@ -16,9 +16,11 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "sable/core/exact_sum.hpp"
+#include "sable/world/snapshot_part.hpp"
 #include "sable/world/wall_totals.hpp"
 #include "sable/world/world.hpp"
 
@@ -78,6 +80,17 @@ class Domain {
   // owned, so a bridge's volume is put together from both).
   virtual void exchange_bridge_shares(const World<D>& /*w*/, std::vector<BridgeShare>& /*shares*/) {
   }
+
+  // Collective: this process's share of a snapshot of the whole state, for the processes to
+  // write one file together (world/snapshot_part.hpp). False: no share (a serial run writes
+  // its World as it is).
+  // `path`: the snapshot's final name (the temporary is named after it).
+  virtual bool snapshot_part(const World<D>& /*w*/, const std::string& /*path*/,
+                             SnapshotPart<D>& /*part*/) const {
+    return false;
+  }
+  // Collective: returns on every process once every process has called it.
+  virtual void barrier() const {}
 };
 
 // Kinetic energy over every process (world.hpp's kinetic_energy() of this process's own
