@@ -1,0 +1,337 @@
+#include "sable/geometry/polyhedron_contact.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "sable/core/error.hpp"
+
+namespace sable {
+
+namespace {
+
+using Vec = Eigen::Vector3d;
+using Mat = Eigen::Matrix3d;
+using Kind = PolyhedronContactKind;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Everything is computed in A's body frame, where B's points are x = R x_B + t; the results
+// turn to the world at the end. Working relative to A keeps the digits of two grains far from
+// the origin: t is the difference of their positions, taken first.
+struct Relative {
+  Mat R;
+  Vec t;
+  Vec at(const Vec& x_b) const { return R * x_b + t; }
+};
+
+struct FaceQuery {
+  double separation = -kInf;
+  std::uint32_t face = 0;
+};
+
+struct EdgeQuery {
+  double separation = -kInf;
+  std::uint32_t edge_a = 0, edge_b = 0;
+  Vec normal = Vec::Zero();  // A's frame, from A to B
+};
+
+// A convex polygon with a fixed capacity: clipping never allocates.
+template <std::size_t N>
+struct Polygon {
+  std::array<Vec, N> p;
+  std::size_t n = 0;
+  void push(const Vec& x) {
+    // A convex polygon gains at most one corner per clip; only a polygon made non-convex by
+    // rounding could gain more, and then the extra (nearly collinear) points may go.
+    if (n < N) p[n++] = x;
+  }
+};
+constexpr std::size_t kClip = 2 * ConvexPolyhedron::kMaxFaceCorners;
+
+// The index of the vertex lowest along m (the first of equals), and its height.
+std::pair<std::uint32_t, double> lowest(const std::vector<Vec>& v, const Vec& m) {
+  std::uint32_t best = 0;
+  double low = kInf;
+  for (std::uint32_t k = 0; k < v.size(); ++k)
+    if (const double h = m.dot(v[k]); h < low) {
+      low = h;
+      best = k;
+    }
+  return {best, low};
+}
+
+// Face axes of A: along n_f, B's lowest vertex against A's plane h_f. B's vertices are
+// measured in B's frame along R^T n_f, so they need not be turned one by one.
+FaceQuery query_faces_a(const ConvexPolyhedron& a, const ConvexPolyhedron& b, const Relative& rel) {
+  FaceQuery q;
+  for (std::uint32_t f = 0; f < a.face_count(); ++f) {
+    const Vec& n = a.normals()[f];
+    const double s =
+        lowest(b.vertices(), rel.R.transpose() * n).second + n.dot(rel.t) - a.offsets()[f];
+    if (s > q.separation) q = {s, f};
+  }
+  return q;
+}
+
+// Face axes of B: along B's normal m = R n_g (A's frame), A's lowest vertex against B's plane,
+// which in A's frame is at h_g + m . t.
+FaceQuery query_faces_b(const ConvexPolyhedron& a, const ConvexPolyhedron& b, const Relative& rel) {
+  FaceQuery q;
+  for (std::uint32_t g = 0; g < b.face_count(); ++g) {
+    const Vec m = rel.R * b.normals()[g];
+    const double s = lowest(a.vertices(), m).second - m.dot(rel.t) - b.offsets()[g];
+    if (s > q.separation) q = {s, g};
+  }
+  return q;
+}
+
+// Edge pairs whose Gauss-map arcs cross (the header gives the test): A's arc from a to b,
+// B's turned over, from c = -R n_0 to d = -R n_1. The planes of the arcs need no cross
+// product: a x b is a positive multiple of A's edge v1 - v0 (face0's loop runs v0 -> v1, so
+// face0's interior lies on the left of the edge seen from outside, and a turns towards b
+// away from it), and c x d = R (n_0 x n_1) one of B's edge turned into A's frame; the test
+// reads only signs. The axis n = e_A x e_B is turned to point out of A at its edge
+// (n . (a + b) > 0: n lies on A's arc), so that the edge of A is A's highest point along n and
+// the edge of B is B's lowest: the separation is n . (p_B - p_A) for any point of each edge.
+EdgeQuery query_edges(const ConvexPolyhedron& a, const ConvexPolyhedron& b, const Relative& rel) {
+  EdgeQuery q;
+  const double sine2 = PolyhedronContact::kParallelSine * PolyhedronContact::kParallelSine;
+  for (std::uint32_t j = 0; j < b.edges().size(); ++j) {
+    const ConvexPolyhedron::Edge& eb = b.edges()[j];
+    const Vec c = -(rel.R * b.normals()[eb.face0]), d = -(rel.R * b.normals()[eb.face1]);
+    const Vec pb = rel.at(b.vertices()[eb.v0]);
+    const Vec dir_b = rel.R * (b.vertices()[eb.v1] - b.vertices()[eb.v0]);  // along c x d
+    for (std::uint32_t i = 0; i < a.edges().size(); ++i) {
+      const ConvexPolyhedron::Edge& ea = a.edges()[i];
+      const Vec dir_a = a.vertices()[ea.v1] - a.vertices()[ea.v0];  // along a x b
+      const Vec& na = a.normals()[ea.face0];
+      const Vec& nb = a.normals()[ea.face1];
+      const double cu = c.dot(dir_a), du = d.dot(dir_a), aw = na.dot(dir_b), bw = nb.dot(dir_b);
+      // All three signs, then one branch: few pairs pass, so it is well predicted, where a
+      // branch per test would miss half the time.
+      if (!((cu * du < 0.0) & (aw * bw < 0.0) & (cu * bw > 0.0))) continue;
+      Vec n = dir_a.cross(dir_b);
+      if (!(n.squaredNorm() > sine2 * dir_a.squaredNorm() * dir_b.squaredNorm())) continue;
+      n.normalize();
+      if (n.dot(na + nb) < 0.0) n = -n;
+      const double s = n.dot(pb - a.vertices()[ea.v0]);
+      if (s > q.separation) q = {s, i, j, n};
+    }
+  }
+  return q;
+}
+
+// Sutherland-Hodgman against one side plane {x : s . x <= o}. A corner on the plane is kept
+// and makes no crossing, so no point comes out twice.
+void clip(const Polygon<kClip>& in, const Vec& s, double o, Polygon<kClip>& out) {
+  out.n = 0;
+  if (in.n == 0) return;
+  Vec prev = in.p[in.n - 1];
+  double dp = s.dot(prev) - o;
+  for (std::size_t k = 0; k < in.n; ++k) {
+    const Vec& cur = in.p[k];
+    const double dc = s.dot(cur) - o;
+    if ((dp < 0.0 && dc > 0.0) || (dp > 0.0 && dc < 0.0))
+      out.push(prev + (cur - prev) * (dp / (dp - dc)));
+    if (dc <= 0.0) out.push(cur);
+    prev = cur;
+    dp = dc;
+  }
+}
+
+// Twice the signed area of the triangle (p, q, r) seen along n.
+double area(const Vec& p, const Vec& q, const Vec& r, const Vec& n) {
+  return (q - p).cross(r - p).dot(n);
+}
+
+// The argmax of score(k) over k < count (the first of equals); -1 unless some score > 0.
+template <typename Score>
+int best_of(std::size_t count, Score&& score) {
+  int best = -1;
+  double top = 0.0;
+  for (std::size_t k = 0; k < count; ++k)
+    if (const double v = score(k); v > top) {
+      top = v;
+      best = static_cast<int>(k);
+    }
+  return best;
+}
+
+// At most 4 of `count` points (positions x, gaps g), by the rule of the header: the deepest,
+// the farthest from it, the largest triangle, the most area added outside one side of it.
+// Returns how many, their indices in `keep`.
+int reduce(const Polygon<kClip>& x, const std::array<double, kClip>& g, const Vec& n,
+           std::array<std::size_t, 4>& keep) {
+  if (x.n <= 4) {
+    for (std::size_t k = 0; k < x.n; ++k) keep[k] = k;
+    return static_cast<int>(x.n);
+  }
+  std::size_t i0 = 0;
+  for (std::size_t k = 1; k < x.n; ++k)
+    if (g[k] < g[i0]) i0 = k;
+  const auto flat = [&](const Vec& v) { return v - n.dot(v) * n; };  // in the plane
+  keep[0] = i0;
+  const int i1 = best_of(x.n, [&](std::size_t k) { return flat(x.p[k] - x.p[i0]).squaredNorm(); });
+  if (i1 < 0) return 1;
+  keep[1] = static_cast<std::size_t>(i1);
+  const Vec &p0 = x.p[i0], &p1 = x.p[keep[1]];
+  const int i2 = best_of(x.n, [&](std::size_t k) { return std::abs(area(p0, p1, x.p[k], n)); });
+  if (i2 < 0) return 2;
+  keep[2] = static_cast<std::size_t>(i2);
+  const Vec& p2 = x.p[keep[2]];
+  const double turn = area(p0, p1, p2, n) > 0.0 ? 1.0 : -1.0;  // the triangle's winding
+  const int i3 = best_of(x.n, [&](std::size_t k) {
+    // Outside a side (q, r), the point adds the triangle (q, r, point), wound against it.
+    return std::max({-turn * area(p0, p1, x.p[k], n), -turn * area(p1, p2, x.p[k], n),
+                     -turn * area(p2, p0, x.p[k], n)});
+  });
+  if (i3 < 0) return 3;
+  keep[3] = static_cast<std::size_t>(i3);
+  return 4;
+}
+
+// The incident face clipped by the side planes of the reference face (`ref`, its corners
+// counterclockwise about n), then the points within `margin` of the reference plane
+// n . x = h, at most 4 of them, into c (A's frame). `poly` holds the incident face on entry;
+// `spare` is the other buffer of the ping-pong.
+void clip_and_keep(const Polygon<ConvexPolyhedron::kMaxFaceCorners>& ref, const Vec& n, double h,
+                   double margin, Polygon<kClip>& poly, Polygon<kClip>& spare,
+                   PolyhedronContact& c) {
+  Polygon<kClip>* in = &poly;
+  Polygon<kClip>* out = &spare;
+  for (std::size_t i = 0; i < ref.n; ++i) {
+    // The side's outward normal: the edge direction x n points away from the face.
+    const Vec side = (ref.p[(i + 1) % ref.n] - ref.p[i]).cross(n);
+    clip(*in, side, side.dot(ref.p[i]), *out);
+    std::swap(in, out);
+  }
+  std::array<double, kClip> gap;
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < in->n; ++k)
+    if (const double g = n.dot(in->p[k]) - h; g <= margin) {
+      in->p[kept] = in->p[k];
+      gap[kept++] = g;
+    }
+  in->n = kept;
+  std::array<std::size_t, 4> keep{};
+  c.count = reduce(*in, gap, n, keep);
+  for (int k = 0; k < c.count; ++k) c.points[k] = {in->p[keep[k]], gap[keep[k]]};
+}
+
+// Reference face of A, incident face of B (the one whose normal is lowest along A's).
+void face_a_manifold(const ConvexPolyhedron& a, const ConvexPolyhedron& b, const Relative& rel,
+                     const FaceQuery& fa, double margin, PolyhedronContact& c) {
+  const Vec& n = a.normals()[fa.face];
+  const Vec m = rel.R.transpose() * n;  // n in B's frame
+  c.feature_b = lowest(b.normals(), m).first;
+  Polygon<ConvexPolyhedron::kMaxFaceCorners> ref;
+  for (std::uint32_t v : a.face(fa.face)) ref.push(a.vertices()[v]);
+  Polygon<kClip> poly, spare;
+  for (std::uint32_t v : b.face(c.feature_b)) poly.push(rel.at(b.vertices()[v]));
+  clip_and_keep(ref, n, a.offsets()[fa.face], margin, poly, spare, c);
+  if (c.count == 0) {
+    const std::uint32_t k = lowest(b.vertices(), m).first;
+    c.points[0] = {rel.at(b.vertices()[k]), fa.separation};
+    c.count = 1;
+  }
+}
+
+// Reference face of B (its plane in A's frame), incident face of A.
+void face_b_manifold(const ConvexPolyhedron& a, const ConvexPolyhedron& b, const Relative& rel,
+                     const FaceQuery& fb, double margin, PolyhedronContact& c) {
+  const Vec n = rel.R * b.normals()[fb.face];
+  const double h = b.offsets()[fb.face] + n.dot(rel.t);
+  c.feature_a = lowest(a.normals(), n).first;
+  Polygon<ConvexPolyhedron::kMaxFaceCorners> ref;
+  for (std::uint32_t v : b.face(fb.face)) ref.push(rel.at(b.vertices()[v]));
+  Polygon<kClip> poly, spare;
+  for (std::uint32_t v : a.face(c.feature_a)) poly.push(a.vertices()[v]);
+  clip_and_keep(ref, n, h, margin, poly, spare, c);
+  if (c.count == 0) {
+    const std::uint32_t k = lowest(a.vertices(), n).first;
+    c.points[0] = {a.vertices()[k], fb.separation};
+    c.count = 1;
+  }
+}
+
+// The midpoint of the closest points of the segments p0 + s u and q0 + t v, s and t in
+// [0, 1]. Setting the derivatives of |p0 - q0 + s u - t v|^2 to zero gives the lines' closest
+// pair; a t outside [0, 1] is clamped, and s then re-solved for that end (and clamped).
+Vec midway(const Vec& p0, const Vec& u, const Vec& q0, const Vec& v) {
+  const Vec r = p0 - q0;
+  const double uu = u.dot(u), vv = v.dot(v), uv = u.dot(v), ru = r.dot(u), rv = r.dot(v);
+  const double den = uu * vv - uv * uv;  // > 0: the edges are not parallel
+  double s = den > 0.0 ? std::clamp((uv * rv - ru * vv) / den, 0.0, 1.0) : 0.0;
+  double t = (rv + s * uv) / vv;
+  if (t < 0.0) {
+    t = 0.0;
+    s = std::clamp(-ru / uu, 0.0, 1.0);
+  } else if (t > 1.0) {
+    t = 1.0;
+    s = std::clamp((uv - ru) / uu, 0.0, 1.0);
+  }
+  return 0.5 * (p0 + s * u + q0 + t * v);
+}
+
+void edge_manifold(const ConvexPolyhedron& a, const ConvexPolyhedron& b, const Relative& rel,
+                   const EdgeQuery& e, PolyhedronContact& c) {
+  const ConvexPolyhedron::Edge& ea = a.edges()[e.edge_a];
+  const ConvexPolyhedron::Edge& eb = b.edges()[e.edge_b];
+  const Vec p0 = a.vertices()[ea.v0], q0 = rel.at(b.vertices()[eb.v0]);
+  const Vec mid = midway(p0, a.vertices()[ea.v1] - p0, q0, rel.at(b.vertices()[eb.v1]) - q0);
+  c.points[0] = {mid, e.separation};
+  c.count = 1;
+}
+
+}  // namespace
+
+PolyhedronContact polyhedron_contact(const ConvexPolyhedron& a, const Eigen::Vector3d& position_a,
+                                     const Eigen::Quaterniond& orientation_a,
+                                     const ConvexPolyhedron& b, const Eigen::Vector3d& position_b,
+                                     const Eigen::Quaterniond& orientation_b, double margin) {
+  if (!(margin >= 0.0) || !std::isfinite(margin))
+    throw InputError(fmt::format("polyhedron contact: margin {}, expected >= 0", margin));
+  const Mat ra = orientation_a.toRotationMatrix();
+  const Relative rel{ra.transpose() * orientation_b.toRotationMatrix(),
+                     ra.transpose() * (position_b - position_a)};
+  const FaceQuery fa = query_faces_a(a, b, rel), fb = query_faces_b(a, b, rel);
+  const EdgeQuery e = query_edges(a, b, rel);
+  PolyhedronContact c;
+  c.separation = std::max({fa.separation, fb.separation, e.separation});
+  const double slack = PolyhedronContact::kAxisPreference * std::min(a.radius(), b.radius());
+  Vec n;  // A's frame, from A to B
+  if (fa.separation >= c.separation - slack) {
+    c.kind = Kind::kFaceA;
+    c.feature_a = fa.face;
+    n = a.normals()[fa.face];
+  } else if (fb.separation >= c.separation - slack) {
+    c.kind = Kind::kFaceB;
+    c.feature_b = fb.face;
+    n = -(rel.R * b.normals()[fb.face]);
+  } else {
+    c.kind = Kind::kEdgeEdge;
+    c.feature_a = e.edge_a;
+    c.feature_b = e.edge_b;
+    n = e.normal;
+  }
+  c.normal = ra * n;
+  if (c.separation > margin) return c;
+  switch (c.kind) {
+    case Kind::kFaceA:
+      face_a_manifold(a, b, rel, fa, margin, c);
+      break;
+    case Kind::kFaceB:
+      face_b_manifold(a, b, rel, fb, margin, c);
+      break;
+    case Kind::kEdgeEdge:
+      edge_manifold(a, b, rel, e, c);
+      break;
+  }
+  for (int k = 0; k < c.count; ++k) c.points[k].position = ra * c.points[k].position + position_a;
+  return c;
+}
+
+}  // namespace sable

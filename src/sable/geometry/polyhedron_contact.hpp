@@ -1,0 +1,100 @@
+// The narrow phase between two convex polyhedra (geometry/convex_polyhedron.hpp), A and B,
+// each posed by a position x and a unit quaternion q (world = q * body + x): how far apart
+// they are, along which normal, and where they touch.
+//
+// Separating axes. Two convex polyhedra are apart exactly when some plane separates them, and
+// then one parallel to a face of their Minkowski difference A - B does; the faces' normals are
+// the face normals of A, those of B (turned over), and the cross products e_A x e_B of one
+// edge of each whose arcs on the Gauss map cross (D. Gregorius, "The Separating Axis Test
+// between Convex Polyhedra", GDC 2013). An edge's arc joins the normals of its two faces; B's
+// arcs enter turned over (the Gauss map of -B). Two arcs ab and cd (each shorter than a half
+// circle) cross when c and d lie on opposite sides of the plane of a and b, a and b on
+// opposite sides of the plane of c and d, and the two crossings of the great circles are the
+// same point, not antipodes: with u = a x b and w = c x d, (c.u)(d.u) < 0, (a.w)(b.w) < 0
+// and (c.u)(b.w) > 0. Only those pairs are tested: the others are no face of A - B.
+//
+// The separation along a unit axis n (from A to B) is min over B of n.x - max over A of n.x:
+// > 0 apart by at least that much, < 0 overlapping by at least its magnitude. `separation` is
+// the largest over the axes tested: for overlapping shapes, minus the penetration depth (the
+// shortest translation that parts them); for shapes apart, a lower bound of their distance,
+// and > 0 exactly when they are apart. For an edge pair the edges themselves are the
+// extreme points along the axis (that is what the Gauss-map test says), so each pair costs
+// O(1); a face axis takes the other shape's lowest vertex.
+//
+// Axis preference. Near a resting contact a face axis and an edge axis (or a face of each
+// shape) can be equally good within rounding, or nearly so under a slight tilt, and choosing
+// by rounding would make the manifold flicker (4 points one step, 1 the next). The normal and
+// the manifold are therefore taken from the first of: a face of A, a face of B, an edge pair,
+// whose separation is within kAxisPreference times the smaller shape's radius of the largest.
+// `separation` stays the largest, whichever is chosen; the chosen axis's own separation may be
+// up to that tolerance below it, and the manifold's gaps are measured along the chosen normal.
+//
+// The manifold, when separation <= margin:
+//  - face axis: the reference face is the chosen face, the incident face the other shape's
+//    face most anti-parallel to it; the incident face is clipped against the side planes of
+//    the reference face (Sutherland-Hodgman), and the clipped points within `margin` of the
+//    reference plane are kept, each with its gap (its signed distance from the reference
+//    plane, along the normal). The points lie on the incident face. Over 4 points, 4 are
+//    kept: the deepest; the one farthest from it; the one making the largest triangle with
+//    those two; the one adding the most area outside one side of that triangle (areas and
+//    distances in the reference plane). When no clipped point is kept (the incident face
+//    lies beside the reference face: shapes apart across a corner), the manifold is the
+//    incident shape's deepest vertex along the normal, its gap the face's separation.
+//    A vertex on a face gives 1 point, an edge on a face 2, a face on a face up to 4;
+//  - edge pair: one point, midway between the closest points of the two edges, its gap the
+//    separation.
+//
+// Cost per call: O(F_A V_B + F_B V_A + E_A E_B) for V vertices, E edges, F faces (each face
+// axis scans the other shape's vertices; every edge pair takes the Gauss-map test), then
+// O(k_I k_R) to clip the incident face (k_I corners) by the reference face (k_R). No heap
+// allocation: the clipped polygon lives in fixed buffers of 2 kMaxFaceCorners points on the
+// stack (about 9 kB in all).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+
+#include "sable/geometry/convex_polyhedron.hpp"
+
+namespace sable {
+
+enum class PolyhedronContactKind : std::uint8_t { kFaceA, kFaceB, kEdgeEdge };
+
+struct PolyhedronContactPoint {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world
+  double gap = 0.0;  // signed distance along the normal: > 0 apart, < 0 overlapping
+};
+
+struct PolyhedronContact {
+  static constexpr int kMaxPoints = 4;
+  // Relative to the smaller shape's radius: axes within this of the largest separation are
+  // chosen face of A first, then face of B, then edge pair. 1e-4: far above rounding (1e-15),
+  // so that exact ties (a cube on a cube) never go by rounding, and a face tilted by about
+  // 1e-4 rad keeps its face manifold; the chosen axis's separation is then at most this
+  // below the largest, under a tenth of a DEM's usual overlaps (1e-3 to 1e-2 of a radius).
+  static constexpr double kAxisPreference = 1e-4;
+  // Edge pairs whose directions are parallel within this sine are no axis (two parallel edges
+  // make an edge of A - B, not a face): the error it allows is about this fraction of the
+  // shapes' size.
+  static constexpr double kParallelSine = 1e-8;
+
+  double separation = 0.0;  // the largest over the axes tested (see above)
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit, world, from A to B
+  PolyhedronContactKind kind = PolyhedronContactKind::kFaceA;
+  // kFaceA: the reference face of A and the incident face of B; kFaceB: the incident face of
+  // A and the reference face of B; kEdgeEdge: the edges of A and of B (into edges()). The
+  // incident face is only looked for when the manifold is built (else it is 0).
+  std::uint32_t feature_a = 0, feature_b = 0;
+  int count = 0;  // manifold points; 0 when separation > margin
+  std::array<PolyhedronContactPoint, kMaxPoints> points{};
+};
+
+// Throws InputError when margin is negative or not finite. The quaternions must be unit.
+PolyhedronContact polyhedron_contact(const ConvexPolyhedron& a, const Eigen::Vector3d& position_a,
+                                     const Eigen::Quaterniond& orientation_a,
+                                     const ConvexPolyhedron& b, const Eigen::Vector3d& position_b,
+                                     const Eigen::Quaterniond& orientation_b, double margin = 0.0);
+
+}  // namespace sable
