@@ -10,6 +10,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "sable/io/snapshot_pack.hpp"
 #include "sable/world/state_hash.hpp"
 
 namespace sable {
@@ -43,21 +44,13 @@ struct Row<ParticleId> {
   static ParticleId get(const File* in) { return {in[0], in[1]}; }
 };
 
-template <int K>
-struct Row<Eigen::Matrix<double, K, 1>> {
-  using T = Eigen::Matrix<double, K, 1>;
+// Vectors and orientations: rows of doubles, laid out as the writer lays them (Pack: a
+// quaternion's w, x, y, z in the file, x, y, z, w in memory).
+template <class T>
+requires(!std::is_arithmetic_v<T> && requires { snapshot_detail::Pack<T>::cols; }) struct Row<T> {
   using File = double;
-  static constexpr hsize_t cols = K;
-  static T get(const File* in) { return Eigen::Map<const T>(in); }
-};
-
-template <>
-struct Row<Eigen::Quaterniond> {
-  using File = double;
-  static constexpr hsize_t cols = 4;  // w, x, y, z in the file; x, y, z, w in memory
-  static Eigen::Quaterniond get(const File* in) {
-    return Eigen::Quaterniond(in[0], in[1], in[2], in[3]);
-  }
+  static constexpr hsize_t cols = snapshot_detail::Pack<T>::cols;
+  static T get(const File* in) { return snapshot_detail::Pack<T>::get(in); }
 };
 
 // The optional datasets load_snapshot stands in for when a file lacks them, each with the

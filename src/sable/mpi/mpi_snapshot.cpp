@@ -224,7 +224,7 @@ void MpiDomain<D>::fill_part(const World<D>& w, const std::vector<std::uint64_t>
   pw.neighbors.x_ref.clear();
   std::uint64_t max_index = 0;
   // A process may hold no grain, hence no films: the files' films are every process's choice.
-  int films = w.liquid.wet() || !w.liquid.film.empty() ? 1 : 0;
+  int films = w.liquid.has_films() ? 1 : 0;
   MPI_Allreduce(MPI_IN_PLACE, &films, 1, MPI_INT, MPI_MAX, comm_);
   part.films = films != 0;
   for (std::uint32_t s : keep) {

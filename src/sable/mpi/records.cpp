@@ -285,9 +285,8 @@ void install(World<D>& w, LocalState<D>&& local) {
   });
   if (local.film.size() != order.size())
     throw IoError("mpi: a process's grains and their liquid films do not match");
-  // A world is wet on every process or on none (LiquidState::total is global); a capillary
-  // law's solver keeps films (zeros) before the wetting too, on every process alike.
-  const bool films = w.liquid.wet() || !w.liquid.film.empty();
+  // A world is wet on every process or on none (LiquidState::total is global).
+  const bool films = w.liquid.has_films();
   w.liquid.film.clear();
   if (films)
     for (std::uint32_t k : order) w.liquid.film.push_back(local.film[k]);

@@ -26,6 +26,9 @@ struct LiquidState {
   double total = 0.0;        // liquid put in by the last wetting (m^3)
   double lost = 0.0;         // RupturedLiquid::kLost: liquid of ruptured bridges (m^3)
   bool wet() const { return total > 0.0; }
+  // Per-grain films are held once wet, and as zeros by a capillary law's solver before the
+  // wetting: a decomposed run carries and writes them exactly when a serial run has them.
+  bool has_films() const { return wet() || !film.empty(); }
 };
 
 // World::reorder_every's default: the solver decides from the number of grains
