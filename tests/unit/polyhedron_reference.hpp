@@ -1,7 +1,8 @@
 // Brute-force references for the narrow phase between convex polyhedra
-// (tests/unit/test_polyhedron_contact.cpp), and the random shapes and poses it draws. The
-// references read the hull's triangles posed in the world and share no code with the narrow
-// phase: no merged faces, no Gauss map, no clipping.
+// (tests/unit/test_polyhedron_contact.cpp), and the shapes and poses it draws (the plane's
+// narrow phase, tests/unit/test_polyhedron_plane.cpp, draws them too). The references read
+// the hull's triangles posed in the world and share no code with the narrow phase: no merged
+// faces, no Gauss map, no clipping.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -246,6 +247,27 @@ inline double exact_distance(const Solid& a, const Solid& b) {
     for (const auto& [k, l] : b.edges)
       d = std::min(d, segment_segment(a.v[i], a.v[j], b.v[k], b.v[l]));
   return d;
+}
+
+// ---------------------------------------------------------------------------------------
+// Shapes built by hand
+
+// The box [lo, hi]'s corners, corner k with bit 0, 1, 2 of k choosing hi's x, y, z.
+inline std::vector<Vec> box_corners(const Vec& lo, const Vec& hi) {
+  std::vector<Vec> v;
+  for (int k = 0; k < 8; ++k)
+    v.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
+  return v;
+}
+inline ConvexPolyhedron box(const Vec& lo, const Vec& hi) {
+  return ConvexPolyhedron(convex_hull(box_corners(lo, hi), "box"), "box");
+}
+inline const Vec kHalf(0.5, 0.5, 0.5);  // the unit cube about the origin: box(-kHalf, kHalf)
+
+// A regular tetrahedron about the origin, corner k at tetra_corners()[k].
+inline std::vector<Vec> tetra_corners() {
+  const double s = 0.5;
+  return {Vec(s, s, s), Vec(s, -s, -s), Vec(-s, s, -s), Vec(-s, -s, s)};
 }
 
 // ---------------------------------------------------------------------------------------

@@ -36,23 +36,6 @@ namespace {
 using Kind = PolyhedronContactKind;
 const Quat kI = Quat::Identity();
 
-std::vector<Vec> box_corners(const Vec& lo, const Vec& hi) {
-  std::vector<Vec> v;
-  for (int k = 0; k < 8; ++k)
-    v.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
-  return v;
-}
-ConvexPolyhedron box(const Vec& lo, const Vec& hi) {
-  return ConvexPolyhedron(convex_hull(box_corners(lo, hi), "box"), "box");
-}
-const Vec kHalf(0.5, 0.5, 0.5);
-
-// A regular tetrahedron about the origin, corner k at tetra_corners()[k].
-std::vector<Vec> tetra_corners() {
-  const double s = 0.5;
-  return {Vec(s, s, s), Vec(s, -s, -s), Vec(-s, s, -s), Vec(-s, -s, s)};
-}
-
 // The manifold's points in world coordinates.
 std::vector<Vec> points_of(const PolyhedronContact& c) {
   std::vector<Vec> p;

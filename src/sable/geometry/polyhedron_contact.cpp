@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "sable/core/error.hpp"
+#include "sable/geometry/manifold_reduction.hpp"
 
 namespace sable {
 
@@ -142,55 +143,19 @@ void clip(const Polygon<kClip>& in, const Vec& s, double o, Polygon<kClip>& out)
   }
 }
 
-// Twice the signed area of the triangle (p, q, r) seen along n.
-double area(const Vec& p, const Vec& q, const Vec& r, const Vec& n) {
-  return (q - p).cross(r - p).dot(n);
-}
-
-// The argmax of score(k) over k < count (the first of equals); -1 unless some score > 0.
-template <typename Score>
-int best_of(std::size_t count, Score&& score) {
-  int best = -1;
-  double top = 0.0;
-  for (std::size_t k = 0; k < count; ++k)
-    if (const double v = score(k); v > top) {
-      top = v;
-      best = static_cast<int>(k);
-    }
-  return best;
-}
-
-// At most 4 of `count` points (positions x, gaps g), by the rule of the header: the deepest,
-// the farthest from it, the largest triangle, the most area added outside one side of it.
-// Returns how many, their indices in `keep`.
+// At most 4 of `count` points (positions x, gaps g), by the rule of the header
+// (geometry/manifold_reduction.hpp, shared with the plane's manifold): all of 4 or fewer; else
+// the deepest, the farthest from it, the largest triangle, the most area added outside one
+// side of it. Returns how many, their indices in `keep`.
 int reduce(const Polygon<kClip>& x, const std::array<double, kClip>& g, const Vec& n,
            std::array<std::size_t, 4>& keep) {
   if (x.n <= 4) {
     for (std::size_t k = 0; k < x.n; ++k) keep[k] = k;
     return static_cast<int>(x.n);
   }
-  std::size_t i0 = 0;
-  for (std::size_t k = 1; k < x.n; ++k)
-    if (g[k] < g[i0]) i0 = k;
-  const auto flat = [&](const Vec& v) { return v - n.dot(v) * n; };  // in the plane
-  keep[0] = i0;
-  const int i1 = best_of(x.n, [&](std::size_t k) { return flat(x.p[k] - x.p[i0]).squaredNorm(); });
-  if (i1 < 0) return 1;
-  keep[1] = static_cast<std::size_t>(i1);
-  const Vec &p0 = x.p[i0], &p1 = x.p[keep[1]];
-  const int i2 = best_of(x.n, [&](std::size_t k) { return std::abs(area(p0, p1, x.p[k], n)); });
-  if (i2 < 0) return 2;
-  keep[2] = static_cast<std::size_t>(i2);
-  const Vec& p2 = x.p[keep[2]];
-  const double turn = area(p0, p1, p2, n) > 0.0 ? 1.0 : -1.0;  // the triangle's winding
-  const int i3 = best_of(x.n, [&](std::size_t k) {
-    // Outside a side (q, r), the point adds the triangle (q, r, point), wound against it.
-    return std::max({-turn * area(p0, p1, x.p[k], n), -turn * area(p1, p2, x.p[k], n),
-                     -turn * area(p2, p0, x.p[k], n)});
-  });
-  if (i3 < 0) return 3;
-  keep[3] = static_cast<std::size_t>(i3);
-  return 4;
+  return detail::reduce_to_four(
+      x.n, [&](std::size_t k) -> const Vec& { return x.p[k]; }, [&](std::size_t k) { return g[k]; },
+      [](std::size_t) { return true; }, n, keep);
 }
 
 // The incident face clipped by the side planes of the reference face (`ref`, its corners

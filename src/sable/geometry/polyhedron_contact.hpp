@@ -37,9 +37,11 @@
 //    plane, along the normal). The points lie on the incident face. Over 4 points, 4 are
 //    kept: the deepest; the one farthest from it; the one making the largest triangle with
 //    those two; the one adding the most area outside one side of that triangle (areas and
-//    distances in the reference plane). When no clipped point is kept (the incident face
-//    lies beside the reference face: shapes apart across a corner), the manifold is the
-//    incident shape's deepest vertex along the normal, its gap the face's separation.
+//    distances in the reference plane: geometry/manifold_reduction.hpp, the rule the plane's
+//    manifold, geometry/polyhedron_plane.hpp, shares). When no clipped point is kept (the
+//    incident face lies beside the reference face: shapes apart across a corner), the
+//    manifold is the incident shape's deepest vertex along the normal, its gap the face's
+//    separation.
 //    A vertex on a face gives 1 point, an edge on a face 2, a face on a face up to 4;
 //  - edge pair: one point, midway between the closest points of the two edges, its gap the
 //    separation.
