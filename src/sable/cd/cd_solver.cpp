@@ -20,8 +20,14 @@ template <int D>
 class CdSolver<D>::Problem {
  public:
   Problem(Contacts& c, ParticleStore<D>& p, std::vector<Wall<D>>& walls, std::vector<WallDof>& dofs,
-          double h, const cd::SweepColouring& colouring)
-      : c_(c), p_(p), walls_(walls), dofs_(dofs), inv_h_(1.0 / h), colouring_(colouring) {}
+          double h, const cd::SweepColouring& colouring, AngularResponse turn)
+      : c_(c),
+        p_(p),
+        walls_(walls),
+        dofs_(dofs),
+        inv_h_(1.0 / h),
+        colouring_(colouring),
+        turn_(turn) {}
   const cd::SweepColouring& colouring() const { return colouring_; }
   std::size_t size() const { return c_.size(); }
   const LMat& W(std::size_t a) const { return c_.W[a]; }
@@ -55,12 +61,12 @@ class CdSolver<D>::Problem {
     // (an update by zero leaves a finite velocity as it is).
     if (!p_.fixed(i)) {
       p_.v[i] += p_.inv_mass[i] * impulse;
-      p_.omega[i] += p_.inv_inertia[i] * S::moment(c_.arm_i[a], impulse);
+      p_.omega[i] += turn_(i, S::moment(c_.arm_i[a], impulse));
     }
     if (!c_.wall[a]) {
       if (!p_.fixed(j)) {
         p_.v[j] -= p_.inv_mass[j] * impulse;
-        p_.omega[j] -= p_.inv_inertia[j] * S::moment(c_.arm_j[a], impulse);
+        p_.omega[j] -= turn_(j, S::moment(c_.arm_j[a], impulse));
       }
     } else if (j < dofs_.size() && dofs_[j].inv_mass > 0.0) {
       // A wall body takes the opposite impulse along its normal (its one degree of freedom;
@@ -145,6 +151,7 @@ class CdSolver<D>::Problem {
   std::vector<WallDof>& dofs_;
   double inv_h_;
   const cd::SweepColouring& colouring_;
+  AngularResponse turn_;
   double q_norm_ = 0.0;
 };
 
@@ -192,6 +199,7 @@ template <int D>
 void CdSolver<D>::initialize() {
   // The lists carry rolling couples exactly when the law has rolling resistance.
   world_.neighbors.rolling = world_.model.rolling != RollingModel::kNone;
+  if (!world_.shapes.empty()) check_polyhedral_world();
   // The builds sort the grains into cell order when due (world/reorder.hpp), as in the DEM
   // solver. The contacts, and so the NLGS sweep, follow the list's order: a sort changes the
   // sweep's order, and with it the iterates, not the problem (the same contacts, impulses
@@ -212,6 +220,7 @@ void CdSolver<D>::step() {
   using S = Space<D>;
   const double h = world_.dt;
   auto& p = world_.particles;
+  if (!world_.shapes.empty()) check_polyhedral_world();  // also after a resume (no initialize())
   {
     auto scope = timers_.time(Phase::kIntegrate);
     // Gravity is constant, so the theta weighting of smooth forces leaves h g.
@@ -227,12 +236,13 @@ void CdSolver<D>::step() {
   }
   {
     auto scope = timers_.time(Phase::kContactBuild);
+    turn_ = angular_response();
     build_contacts();
     if (s_.nlgs.order == cd::SweepOrder::kColoured) build_colouring();
   }
   {
     auto scope = timers_.time(Phase::kNlgsSolve);
-    Problem problem(c_, p, world_.walls, dofs_, h, colouring_);
+    Problem problem(c_, p, world_.walls, dofs_, h, colouring_, turn_);
     double q2 = 0.0;
     q_.resize(c_.size());
     for (std::size_t a = 0; a < c_.size(); ++a) {
@@ -271,11 +281,7 @@ void CdSolver<D>::step() {
   store_impulses();
   {
     auto scope = timers_.time(Phase::kIntegrate);
-    for (std::size_t k = 0; k < p.size(); ++k) {
-      if (p.inv_mass[k] == 0.0) continue;
-      p.x[k] += h * p.v[k];
-      if (world_.track_orientation) p.q[k] = S::rotate(p.q[k], p.omega[k], h);
-    }
+    drift(h);
     for (auto& wall : world_.walls) wall.advance(h);
   }
   world_.time += h;
@@ -286,6 +292,50 @@ void CdSolver<D>::step() {
   check_grain_states(world_);
 }
 
+// Positions from the end-of-step velocities. A polyhedral grain turns freely over the step
+// (core/rigid_rotation.hpp: its angular momentum kept, its angular velocity turning with it),
+// whatever track_orientation says: its orientation enters its contacts.
+template <int D>
+void CdSolver<D>::drift(double h) {
+  using S = Space<D>;
+  auto& p = world_.particles;
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    if (p.inv_mass[k] == 0.0) continue;
+    p.x[k] += h * p.v[k];
+    if constexpr (D == 3) {
+      if (p.polyhedron(k)) {
+        const PolyhedronShape& s = world_.shapes[p.shape_index[k]];
+        free_rotation(p.q[k], p.omega[k], s.inertia * (p.mass[k] / s.volume), h);
+        continue;
+      }
+    }
+    if (world_.track_orientation) p.q[k] = S::rotate(p.q[k], p.omega[k], h);
+  }
+}
+
+// The step's AngularResponse: the scalar inverse inertia, or with polyhedral grains each
+// grain's tensor at its current orientation (a fixed grain's zero, a round one's isotropic).
+template <int D>
+typename CdSolver<D>::AngularResponse CdSolver<D>::angular_response() {
+  const auto& p = world_.particles;
+  AngularResponse r{p.inv_inertia.data(), nullptr};
+  if constexpr (D == 3) {
+    if (world_.shapes.empty()) return r;
+    inv_tensor_.resize(p.size());
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      if (p.inv_inertia[k] == 0.0 || !p.polyhedron(k)) {
+        inv_tensor_[k] = p.inv_inertia[k] * Eigen::Matrix3d::Identity();
+        continue;
+      }
+      const PolyhedronShape& s = world_.shapes[p.shape_index[k]];
+      const Eigen::Vector3d inv = (s.inertia * (p.mass[k] / s.volume)).cwiseInverse();
+      inv_tensor_[k] = world_inverse_inertia(p.q[k], inv);
+    }
+    r.tensor = inv_tensor_.data();
+  }
+  return r;
+}
+
 // Where the NLGS stopped short (stagnating, or its sweeps spent): the semismooth Newton on the
 // assembled problem, from r = 0 (from the NLGS's stalled iterate it tends to stall too:
 // docs/contact-dynamics.md). Its answer replaces the NLGS's only if its residual, recomputed
@@ -294,7 +344,7 @@ template <int D>
 bool CdSolver<D>::newton_applies() const {
   const bool bodies =
       std::any_of(dofs_.begin(), dofs_.end(), [](const WallDof& d) { return d.inv_mass > 0.0; });
-  return s_.newton_iterations > 0 && !bodies && c_.m.empty() &&
+  return s_.newton_iterations > 0 && !bodies && c_.m.empty() && world_.shapes.empty() &&
          s_.nlgs.criterion == cd::Criterion::kNatural;
 }
 
@@ -367,10 +417,9 @@ void CdSolver<D>::set_contact(std::size_t a, std::uint32_t i, std::uint32_t part
   LMat W;
   for (int c = 0; c < D; ++c) {
     const Vec P = frame.col(c);
-    Vec dv = p.inv_mass[i] * P + S::spin_velocity(p.inv_inertia[i] * S::moment(arm_i, P), arm_i);
+    Vec dv = p.inv_mass[i] * P + S::spin_velocity(turn_(i, S::moment(arm_i, P)), arm_i);
     if constexpr (!kWall)
-      dv += p.inv_mass[partner] * P +
-            S::spin_velocity(p.inv_inertia[partner] * S::moment(arm_j, P), arm_j);
+      dv += p.inv_mass[partner] * P + S::spin_velocity(turn_(partner, S::moment(arm_j, P)), arm_j);
     if constexpr (kWall) {
       if (is_body(partner)) {  // a wall body recoils along its normal only
         const Vec nw = world_.walls[partner].normal();
@@ -413,6 +462,9 @@ void CdSolver<D>::build_contacts() {
   const auto& p = world_.particles;
   auto& pl = world_.neighbors.pairs;
   auto& wl = world_.neighbors.wall_pairs;
+  if constexpr (D == 3) {
+    if (!world_.shapes.empty()) return build_polyhedral_contacts();
+  }
   const double reach = 2.0 * world_.dt * max_speed();
   // Rolling resistance: the lists' `roll` slots (one per entry, kept by build() and
   // load_snapshot()) hold each contact's couple (N m) on its grain i, for the warm start and
@@ -535,12 +587,17 @@ void CdSolver<D>::store_impulses() {
     if (f.squaredNorm() > 0.0) ++diag_.touching;
     p.f[i] += f;
     p.t[i] += S::moment(c_.arm_i[a], f);
+    // A polyhedral pair's manifold is several contacts of one list entry, in a row: the
+    // entry's force is their sum (a round grain's entry has one).
+    const bool first = a == 0 || c_.source[a - 1] != c_.source[a] || c_.wall[a - 1] != c_.wall[a];
     if (c_.wall[a]) {
-      nl.wall_pairs.force[c_.source[a]] = f;
+      Vec& entry = nl.wall_pairs.force[c_.source[a]];
+      entry = first ? f : Vec(entry + f);
       wall_totals_.add_force(j, -f);
       wall_totals_.add_torque(j, -S::moment(Vec(p.x[i] + c_.arm_i[a] - world_.walls[j].pivot), f));
     } else {
-      nl.pairs.force[c_.source[a]] = f;
+      Vec& entry = nl.pairs.force[c_.source[a]];
+      entry = first ? f : Vec(entry + f);
       p.f[j] -= f;
       p.t[j] -= S::moment(c_.arm_j[a], f);
     }
@@ -576,5 +633,16 @@ void CdSolver<D>::diagnostic_values(std::vector<double>& row) const {
 
 template class CdSolver<2>;
 template class CdSolver<3>;
+// For cd_polyhedra.cpp, whose contacts are made by the same function.
+template void CdSolver<3>::set_contact<false>(std::size_t, std::uint32_t, std::uint32_t,
+                                              std::uint32_t, const Eigen::Vector3d&, double,
+                                              const Eigen::Vector3d&, const Eigen::Vector3d&,
+                                              const PairParams&, const Eigen::Vector3d&,
+                                              const Eigen::Vector3d&);
+template void CdSolver<3>::set_contact<true>(std::size_t, std::uint32_t, std::uint32_t,
+                                             std::uint32_t, const Eigen::Vector3d&, double,
+                                             const Eigen::Vector3d&, const Eigen::Vector3d&,
+                                             const PairParams&, const Eigen::Vector3d&,
+                                             const Eigen::Vector3d&);
 
 }  // namespace sable

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "sable/cd/nlgs.hpp"
+#include "sable/geometry/polyhedron_contact.hpp"
 #include "sable/world/reorder.hpp"
 #include "sable/world/solver.hpp"
 #include "sable/world/wall_totals.hpp"
@@ -105,8 +106,27 @@ class CdSolver final : public Solver {
   };
   class Problem;
 
+  // How a grain's angular velocity answers a moment: its scalar inverse inertia (disks,
+  // spheres), or, in a world with polyhedral grains, its world-frame inverse inertia tensor
+  // at the step's orientation (core/rigid_rotation.hpp), one per grain.
+  struct AngularResponse {
+    const double* inv_inertia = nullptr;
+    const Eigen::Matrix3d* tensor = nullptr;  // null: every grain round
+    Rot operator()(std::uint32_t g, const Rot& m) const {
+      if constexpr (D == 3)
+        if (tensor != nullptr) return tensor[g] * m;
+      return inv_inertia[g] * m;
+    }
+  };
+
  private:
   void build_contacts();
+  // The contacts of a world with polyhedral grains (cd/cd_polyhedra.cpp): each list entry
+  // gives its manifold's points (up to 4), each point a contact.
+  void build_polyhedral_contacts();
+  void check_polyhedral_world() const;
+  AngularResponse angular_response();
+  void drift(double h);
   void build_colouring();
   template <bool kWall>
   void set_contact(std::size_t a, std::uint32_t i, std::uint32_t partner, std::uint32_t source,
@@ -131,11 +151,23 @@ class CdSolver final : public Solver {
   cd::SweepColouring colouring_;  // kColoured: this step's blocks
   std::vector<std::uint32_t> body_i_, body_j_;  // scratch of build_colouring()
   std::vector<std::uint8_t> serial_;
-  std::vector<std::size_t> slot_;         // scratch of build_contacts(): per list entry
-  std::vector<WallFeature<D>> features_;  // and per wall entry
-  int newton_iterations_ = 0;             // the fallback's steps in the last step (0: not used)
+  std::vector<std::size_t> slot_;            // scratch of build_contacts(): per list entry
+  std::vector<WallFeature<D>> features_;     // and per wall entry
+  std::vector<PolyhedronContact> manifold_;  // polyhedra: per list entry (pairs, then walls)
+  std::vector<Eigen::Matrix3d> inv_tensor_;  // polyhedra: AngularResponse::tensor, per grain
+  AngularResponse turn_;                     // this step's (angular_response())
+  int newton_iterations_ = 0;                // the fallback's steps in the last step (0: not used)
   GrainReorder<D> reorder_;
   WallTotals<D> wall_totals_;  // store_impulses()' exact sums
 };
+
+template <>
+void CdSolver<2>::build_polyhedral_contacts();
+template <>
+void CdSolver<3>::build_polyhedral_contacts();
+template <>
+void CdSolver<2>::check_polyhedral_world() const;
+template <>
+void CdSolver<3>::check_polyhedral_world() const;
 
 }  // namespace sable

@@ -22,9 +22,13 @@ enum ParticleFlags : std::uint8_t {
   kGhost = 1u << 1,
 };
 
-// The shape of the grain. Disks (2D) and spheres (3D) now; polyhedra later add an index into a
-// shape table, which is why the kind is stored per grain and not per run.
-enum class ShapeKind : std::uint8_t { kRound = 0 };
+// The shape of the grain: a disk (2D) or sphere (3D), or a convex polyhedron (3D) whose
+// geometry, volume and principal inertia are row `shape_index` of the world's shape table
+// (world/grain_shapes.hpp). Its `radius` is then its bounding sphere's, about its centroid
+// (what the cell lists and the lists' gap tests need), and its `inv_inertia` the largest of its
+// principal inverse moments (a bound, for what asks for one number: the body-frame tensor is
+// the shape table's).
+enum class ShapeKind : std::uint8_t { kRound = 0, kPolyhedron = 1 };
 
 // A new per-grain field goes into for_each_array() (GrainReorder moves the grains' slots
 // through it), add(), the snapshot (io/snapshot_write.cpp, read by io/snapshot.cpp) and the state
@@ -53,6 +57,7 @@ struct ParticleStore {
   // --- cold
   std::vector<ParticleId> id;
   std::vector<ShapeKind> shape;
+  std::vector<std::uint32_t> shape_index;  // a polyhedron's row of the shape table; 0 if round
   // The grain's place in the order of the slots: its cell at the last spatial reorder
   // (world/reorder.hpp; kUnsortedKey before the first), then its id's index. The slots always
   // follow (order_key, id.index); a process holding some of the grains (MPI) puts each one it
@@ -81,11 +86,13 @@ struct ParticleStore {
     visit(mass);
     visit(id);
     visit(shape);
+    visit(shape_index);
     visit(order_key);
   }
-  static constexpr std::size_t kArrays = 15;  // how many for_each_array() visits
+  static constexpr std::size_t kArrays = 16;  // how many for_each_array() visits
   static constexpr std::uint64_t kUnsortedKey = ~std::uint64_t{0};  // order_key before a sort
   bool fixed(std::size_t i) const { return (flags[i] & kFixed) != 0; }
+  bool polyhedron(std::size_t i) const { return shape[i] == ShapeKind::kPolyhedron; }
 
   // Append a round grain. `thickness` is the out-of-plane depth of a 2D run (mass per
   // thickness); it is ignored in 3D.
@@ -106,11 +113,31 @@ struct ParticleStore {
     flags.push_back(is_fixed ? kFixed : 0);
     q.push_back(S::identity());
     shape.push_back(ShapeKind::kRound);
+    shape_index.push_back(0);
     // Grains are added in id order (a fresh registry gives index = slot), after any grain
     // already sorted: a key above every cell (reorder.cpp sets it at the next sort).
     order_key.push_back(kUnsortedKey);
     id.push_back(ids.create(slot));
     return id.back();
+  }
+
+  // Append a polyhedral grain (3D), its centroid at `pos`, its body frame turned by `orientation`:
+  // `mass` and the principal moments `inertia` (kg m^2, along the body axes) come from its
+  // shape, row `index` of the world's table (mass m), `bounding_radius` is the shape's radius about
+  // its centroid (world/grain_shapes.hpp, add_polyhedral_grain(), fills these in).
+  ParticleId add_polyhedron(const Vec& pos, const typename S::Orientation& orientation,
+                            std::uint32_t index, double bounding_radius, double m,
+                            const Vec& inertia, MaterialIndex mat,
+                            bool is_fixed = false) requires(D == 3) {
+    const ParticleId pid = add(pos, bounding_radius, 0.0, mat, 1.0, is_fixed);
+    const std::size_t k = size() - 1;
+    q[k] = orientation;
+    mass[k] = m;
+    inv_mass[k] = is_fixed ? 0.0 : 1.0 / m;
+    inv_inertia[k] = is_fixed ? 0.0 : 1.0 / inertia.minCoeff();
+    shape[k] = ShapeKind::kPolyhedron;
+    shape_index[k] = index;
+    return pid;
   }
 
   // I = c m r^2: c = 2/5 for a solid sphere, 1/2 for a disk (a cylinder about its axis).

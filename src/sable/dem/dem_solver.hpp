@@ -77,6 +77,7 @@ class DemSolver final : public Solver {
   }
 
  private:
+  void refuse_polyhedra() const;  // InputError while DEM has no law for polyhedral grains
   // The pair pass shares the last kPairTail of each block's work in chunks of kPairChunk
   // grains, a few us each (see dry_pair_forces): enough to absorb the few-% step-to-step
   // wander of a thread's speed (bench/ab_dense.sh -t 2 measures it: 1.065x in the median).

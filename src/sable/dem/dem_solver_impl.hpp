@@ -33,10 +33,19 @@ enum class Sum : std::uint8_t { kGather, kScatter, kScatterChecked };
 
 template <int D, class Laws>
 void DemSolver<D, Laws>::initialize() {
+  refuse_polyhedra();
   // The lists carry rolling springs exactly when the law has rolling resistance.
   world_.neighbors.rolling = with_rolling();
   build_lists();
   compute_forces();
+}
+
+template <int D, class Laws>
+void DemSolver<D, Laws>::refuse_polyhedra() const {
+  if (!world_.shapes.empty())
+    throw InputError(
+        "DEM with polyhedral grains: their contact law is not built yet; contact dynamics "
+        "(solver = \"cd\") steps them");
 }
 
 // One velocity-Verlet step. The forces at t are known on entry (from the previous step or
@@ -56,6 +65,7 @@ void DemSolver<D, Laws>::initialize() {
 // forces: each thread writes only its own grains and contacts.
 template <int D, class Laws>
 void DemSolver<D, Laws>::step() {
+  refuse_polyhedra();  // a resumed run steps without initialize()
   const double h = world_.dt;
   diag_ = StepDiagnostics{};
   Displacements moved;

@@ -66,6 +66,7 @@ struct Loaded {
   std::vector<std::uint32_t> wall_pivoted;
   NeighborList<D> neighbors;
   LiquidState liquid;
+  GrainShapes shapes;
   double time = 0.0, dt = 0.0;
   std::uint64_t step = 0, hash = 0;
   std::array<std::uint64_t, 4> rng{};
@@ -100,11 +101,12 @@ void read_ids(const h5::File& f, ParticleStore<D>& p) {
   const std::string why = "one per grain, as '/particles/x'";
   const auto n = static_cast<hsize_t>(p.size());
   const auto shape = f.read<std::uint8_t>("/particles/shape", 0, n, why);
+  const std::uint8_t kinds = D == 3 ? 2 : 1;
   for (std::size_t k = 0; k < shape.size(); ++k) {
-    if (shape[k] != static_cast<std::uint8_t>(ShapeKind::kRound))
-      f.fail(
-          fmt::format("dataset '/particles/shape' row {} is {}, expected 0 (round)", k, shape[k]));
-    p.shape.push_back(ShapeKind::kRound);
+    if (shape[k] >= kinds)
+      f.fail(fmt::format("dataset '/particles/shape' row {} is {}, expected {}", k, shape[k],
+                         D == 3 ? "0 (round) or 1 (polyhedron)" : "0 (round)"));
+    p.shape.push_back(static_cast<ShapeKind>(shape[k]));
   }
   const auto id = f.read<std::uint32_t>("/particles/id", 2, n, why);
   for (std::size_t k = 0; k < p.size(); ++k) p.id.push_back({id[2 * k], id[2 * k + 1]});
@@ -171,6 +173,55 @@ ParticleStore<D> read_particles(const h5::File& f, std::size_t materials) {
   }
   read_ids(f, p);
   return p;
+}
+
+// The polyhedral grains' shapes (written by io/snapshot_write.cpp, write_shapes), rebuilt from
+// the points they were built from; each grain's row checked against the table.
+template <int D>
+void read_shapes(const h5::File& f, Loaded<D>& s) {
+  auto& p = s.particles;
+  const auto n = static_cast<hsize_t>(p.size());
+  if (!f.exists("/shapes/first")) {
+    for (std::size_t k = 0; k < p.size(); ++k)
+      if (p.shape[k] != ShapeKind::kRound)
+        f.fail(
+            fmt::format("grain {} is a polyhedron ('/particles/shape'), but the file has no "
+                        "'/shapes'",
+                        k));
+    p.shape_index.assign(p.size(), 0);
+    return;
+  }
+  p.shape_index = f.read<std::uint32_t>("/particles/shape_index", 0, n, "one per grain");
+  const auto first = f.read<std::uint64_t>("/shapes/first", 0);
+  const auto points = read_rows<Eigen::Vector3d>(f, "/shapes/points");
+  const hsize_t count = first.empty() ? 0 : first.size() - 1;
+  const std::string why = "one per shape, as '/shapes/first' less one";
+  const auto volume = f.read<double>("/shapes/volume", 0, count, why);
+  const auto inertia = read_rows<Eigen::Vector3d>(f, "/shapes/inertia", count, why);
+  if (first.empty() || first.front() != 0 || first.back() != points.size() ||
+      !std::is_sorted(first.begin(), first.end()))
+    f.fail(
+        fmt::format("dataset '/shapes/first' must rise from 0 to the {} rows of "
+                    "'/shapes/points'",
+                    points.size()));
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::vector<Eigen::Vector3d> body(
+        points.begin() + static_cast<std::ptrdiff_t>(first[k]),
+        points.begin() + static_cast<std::ptrdiff_t>(first[k + 1]));
+    const std::string what = fmt::format("shape {} of '/shapes'", k);
+    try {
+      s.shapes.add_body_frame(body, volume[k], inertia[k], what.c_str());
+    } catch (const InputError& e) {
+      f.fail(e.what());
+    }
+  }
+  for (std::size_t k = 0; k < p.size(); ++k)
+    if (p.shape[k] == ShapeKind::kPolyhedron ? p.shape_index[k] >= count : p.shape_index[k] != 0)
+      f.fail(fmt::format("dataset '/particles/shape_index' row {} is {}; expected {}", k,
+                         p.shape_index[k],
+                         p.shape[k] == ShapeKind::kRound
+                             ? std::string("0 for a round grain")
+                             : fmt::format("a row of the {} shapes of '/shapes'", count)));
 }
 
 template <int D>
@@ -422,6 +473,7 @@ template <int D>
 void swap_state(World<D>& w, Loaded<D>& s) {
   using std::swap;
   swap(w.particles, s.particles);
+  swap(w.shapes, s.shapes);
   for (std::size_t k = 0; k < w.walls.size(); ++k) {
     swap(w.walls[k].point, s.wall_point[k]);
     swap(w.walls[k].velocity, s.wall_velocity[k]);
@@ -473,6 +525,7 @@ RunPosition load_snapshot(const std::string& path, World<D>& world, std::string*
   Loaded<D> s;
   read_clock(f, s);
   s.particles = read_particles<D>(f, world.materials.size());
+  read_shapes(f, s);
   read_walls(f, world.walls, s);
   std::vector<std::uint32_t> elements;
   for (const auto& wall : world.walls) elements.push_back(wall.elements());

@@ -220,11 +220,34 @@ void write_liquid(h5::File& f, const World<D>& w, const Families& at, bool films
   f.write_attr("/liquid", "lost", w.liquid.lost);
 }
 
+// Polyhedral grains' shapes (world/polyhedral_grains.hpp): each grain's row of the table, and
+// the table, only when the run has polyhedra. /shapes/points holds every shape's body-frame
+// points, shape k's in rows [first[k], first[k + 1]).
+template <int D>
+void write_shapes(h5::File& f, const World<D>& w, Rows at) {
+  if (w.shapes.empty()) return;
+  write_flat(f, "/particles/shape_index", w.particles.shape_index, at);
+  std::vector<std::uint64_t> first{0};
+  std::vector<double> points, volume, inertia;
+  for (std::size_t k = 0; k < w.shapes.size(); ++k) {
+    const PolyhedronShape& s = w.shapes[k];
+    for (const Eigen::Vector3d& x : s.points) points.insert(points.end(), {x.x(), x.y(), x.z()});
+    first.push_back(first.back() + s.points.size());
+    volume.push_back(s.volume);
+    inertia.insert(inertia.end(), {s.inertia.x(), s.inertia.y(), s.inertia.z()});
+  }
+  f.write("/shapes/points", points, 3);
+  f.write("/shapes/first", first);
+  f.write("/shapes/volume", volume);
+  f.write("/shapes/inertia", inertia, 3);
+}
+
 template <int D>
 void write_state(h5::File& f, const World<D>& w, const SnapshotPart<D>* part) {
   const Families at = families_of(part);
   write_particles(f, w.particles, at.grains);
   write_registry(f, w.particles, part);
+  write_shapes(f, w, at.grains);
   write_walls(f, w.walls);
   write_neighbors(f, w.neighbors, at);
   write_liquid(f, w, at, part != nullptr && part->films);

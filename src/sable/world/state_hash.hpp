@@ -67,6 +67,15 @@ std::uint64_t state_hash_with(const World<D>& w, Arrays&& arrays, bool order_key
   arrays(h, "/particles/id", p.id);
   arrays(h, "/particles/shape", p.shape);
   if (order_key) arrays(h, "/particles/order_key", p.order_key);
+  if (!w.shapes.empty()) {  // only with polyhedral grains: other runs hash as they always did
+    arrays(h, "/particles/shape_index", p.shape_index);
+    h.value(w.shapes.size());
+    for (std::size_t k = 0; k < w.shapes.size(); ++k) {
+      hash_dense(h, w.shapes[k].points);
+      h.value(w.shapes[k].volume);
+      detail::hash_vec(h, w.shapes[k].inertia);
+    }
+  }
   arrays(h, "/particles/ids/slots", p.ids.slots());
   arrays(h, "/particles/ids/generations", p.ids.generations());
   arrays(h, "/particles/ids/free_list", p.ids.free_list());

@@ -13,7 +13,9 @@
 #include "sable/core/exact_sum.hpp"
 #include "sable/core/material.hpp"
 #include "sable/core/particles.hpp"
+#include "sable/core/rigid_rotation.hpp"
 #include "sable/core/rng.hpp"
+#include "sable/geometry/grain_shapes.hpp"
 #include "sable/geometry/walls.hpp"
 
 namespace sable {
@@ -45,6 +47,7 @@ struct World {
   ContactModel model;
   NeighborList<D> neighbors;  // candidate contacts with their history
   LiquidState liquid;
+  GrainShapes shapes;  // the polyhedral grains' shapes (3D; empty while every grain is round)
 
   Vec gravity = Vec::Zero();
   double thickness = 1.0;  // 2D out-of-plane depth (m)
@@ -85,6 +88,13 @@ ExactSum kinetic_energy_sum(const World<D>& w, bool translation_only = false) {
       if (p.flags[k] & (kFixed | kGhost)) continue;
       run.add(0.5 * p.mass[k] * p.v[k].squaredNorm());
       if (translation_only) continue;
+      if constexpr (D == 3) {
+        if (p.polyhedron(k)) {
+          const PolyhedronShape& s = w.shapes[p.shape_index[k]];
+          run.add(rotational_energy(p.q[k], s.inertia * (p.mass[k] / s.volume), p.omega[k]));
+          continue;
+        }
+      }
       run.add(0.5 * (p.inv_inertia[k] > 0.0 ? 1.0 / p.inv_inertia[k] : 0.0) *
               Space<D>::rot_norm2(p.omega[k]));
     }
