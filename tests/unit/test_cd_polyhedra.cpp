@@ -359,8 +359,8 @@ TEST(CdPolyhedra, ThreadCountGivesTheSameBits) {
   EXPECT_EQ(hash[0], hash[1]);
 }
 
-// What is not built yet says so: DEM refuses polyhedral grains, contact dynamics refuses a
-// sphere among them and walls other than planes.
+// What is not built yet says so: contact dynamics refuses a sphere among polyhedra and walls
+// other than planes; DEM takes them with the linear law only (this world's is Hertz).
 TEST(CdPolyhedra, RefusesWhatItDoesNotHandle) {
   sable::World<3> w = rigid_world(0.5, 1e-4);
   sable::add_polyhedral_grain(w, box(Vec::Zero(), Vec::Constant(kA)), kRho, 0);

@@ -4,12 +4,14 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
 
 #include "sable/core/parallel.hpp"
 #include "sable/dem/grain_split.hpp"
 #include "sable/dem/near_list.hpp"
+#include "sable/dem/polyhedral_dem.hpp"
 #include "sable/world/domain.hpp"
 #include "sable/world/reorder.hpp"
 #include "sable/world/solver.hpp"
@@ -77,7 +79,7 @@ class DemSolver final : public Solver {
   }
 
  private:
-  void refuse_polyhedra() const;  // InputError while DEM has no law for polyhedral grains
+  bool polyhedral();  // the World holds polyhedra: polyhedra_ steps it
   // The pair pass shares the last kPairTail of each block's work in chunks of kPairChunk
   // grains, a few us each (see dry_pair_forces): enough to absorb the few-% step-to-step
   // wander of a thread's speed (bench/ab_dense.sh -t 2 measures it: 1.065x in the median).
@@ -171,6 +173,7 @@ class DemSolver final : public Solver {
   Domain<D> whole_bed_;                          // a serial run's (no decomposition)
   Domain<D>* domain_ = &whole_bed_;              // the grains this process steps
   WallTotals<D> wall_totals_;                    // total_wall_forces()' exact sums
+  std::unique_ptr<PolyhedralDem> polyhedra_;     // the step of a World with polyhedral grains
   std::vector<std::uint32_t> by_wall_, by_wall_begin_, by_wall_fill_;  // and its entries by wall
   std::vector<typename Space<D>::Rot> by_wall_torque_;                 // and their torques
   // Rolling resistance only: each contact's couple on its first grain (read by the gather

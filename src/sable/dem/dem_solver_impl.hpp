@@ -33,19 +33,23 @@ enum class Sum : std::uint8_t { kGather, kScatter, kScatterChecked };
 
 template <int D, class Laws>
 void DemSolver<D, Laws>::initialize() {
-  refuse_polyhedra();
+  if (polyhedral()) return polyhedra_->initialize();
   // The lists carry rolling springs exactly when the law has rolling resistance.
   world_.neighbors.rolling = with_rolling();
   build_lists();
   compute_forces();
 }
 
+// A World with polyhedral grains is stepped by PolyhedralDem (dem/polyhedral_dem.hpp), made
+// on first use.
 template <int D, class Laws>
-void DemSolver<D, Laws>::refuse_polyhedra() const {
-  if (!world_.shapes.empty())
-    throw InputError(
-        "DEM with polyhedral grains: their contact law is not built yet; contact dynamics "
-        "(solver = \"cd\") steps them");
+bool DemSolver<D, Laws>::polyhedral() {
+  if constexpr (D == 3) {
+    if (world_.shapes.empty()) return false;
+    if (!polyhedra_) polyhedra_ = std::make_unique<PolyhedralDem>(world_, timers_, diag_);
+    return true;
+  }
+  return false;
 }
 
 // One velocity-Verlet step. The forces at t are known on entry (from the previous step or
@@ -65,7 +69,10 @@ void DemSolver<D, Laws>::refuse_polyhedra() const {
 // forces: each thread writes only its own grains and contacts.
 template <int D, class Laws>
 void DemSolver<D, Laws>::step() {
-  refuse_polyhedra();  // a resumed run steps without initialize()
+  if (polyhedral()) {  // checked at every step: a resumed run steps without initialize()
+    diag_ = StepDiagnostics{};
+    return polyhedra_->step();
+  }
   const double h = world_.dt;
   diag_ = StepDiagnostics{};
   Displacements moved;
