@@ -141,7 +141,7 @@ TEST(OutputFolder, AResumeTidiesItsFolder) {
                   "(snapshots/end_of_stage_1.h5, snapshots/step_0000001000.h5, "
                   "snapshots/step_0000001500.h5, vtk/contacts_0000001500.vtp, "
                   "vtk/grains_0000001500.vtp, vtk/walls_0000001500.vtp, "
-                  "xdmf/end_of_stage_1.xmf and 2 more)"))
+                  "xdmf/end_of_stage_1.xmf, xdmf/step_0000001000.xmf and 1 more)"))
       << e;
   EXPECT_FALSE(fs::exists(stale));
   fs::remove(snaps / "step_0000001000.h5");  // an orphan sidecar goes by the step in its name
@@ -161,6 +161,7 @@ TEST(OutputFolder, StepsInFileNames) {
   EXPECT_EQ(sable::step_in_file_name("crash_step_0000000007.h5"), 7u);
   EXPECT_EQ(sable::step_in_file_name("interrupted_step_0000012345.h5"), 12345u);
   EXPECT_EQ(sable::step_in_file_name("grains_0000000200.vtp"), 200u);
+  EXPECT_EQ(sable::step_in_file_name("polyhedra_0000000300.vtp"), 300u);
   EXPECT_EQ(sable::step_in_file_name("end_of_stage_2.h5"), std::nullopt);
   EXPECT_EQ(sable::step_in_file_name("step_12x.h5"), std::nullopt);
   EXPECT_EQ(sable::step_in_file_name("mine_0000000200.vtp"), std::nullopt);

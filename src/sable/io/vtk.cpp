@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -13,6 +14,7 @@
 #include <sstream>
 
 #include "sable/core/error.hpp"
+#include "sable/geometry/grain_shapes.hpp"
 #include "sable/io/atomic_file.hpp"
 #include "sable/io/vtk_xml.hpp"
 #include "sable/world/element_forces.hpp"
@@ -108,6 +110,16 @@ void uniform_cells_section(VtkXmlWriter& s, const char* tag, std::size_t cells, 
   s.text("</{}>\n", tag);
 }
 
+// A Verts, Lines or Polys section: the cells' point indices one after the other, and where
+// each cell ends in them.
+void cells_section(VtkXmlWriter& s, const char* tag, const std::vector<std::int64_t>& connectivity,
+                   const std::vector<std::int64_t>& offsets) {
+  s.text("<{}>\n", tag);
+  int_array(s, "connectivity", connectivity);
+  int_array(s, "offsets", offsets);
+  s.text("</{}>\n", tag);
+}
+
 // A Verts, Lines or Polys section from each cell's point indices.
 void cells_section(VtkXmlWriter& s, const char* tag,
                    const std::vector<std::vector<std::int64_t>>& cells) {
@@ -116,10 +128,7 @@ void cells_section(VtkXmlWriter& s, const char* tag,
     connectivity.insert(connectivity.end(), cell.begin(), cell.end());
     offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
   }
-  s.text("<{}>\n", tag);
-  int_array(s, "connectivity", connectivity);
-  int_array(s, "offsets", offsets);
-  s.text("</{}>\n", tag);
+  cells_section(s, tag, connectivity, offsets);
 }
 
 void append3(std::vector<double>& out, const P3& p) {
@@ -401,6 +410,69 @@ void write_walls_vtp(const World<D>& world, const std::string& path, VtkEncoding
       s.text("</CellData>\n");
       points_section(s, mesh.xyz.size(), [&](std::size_t k) { return mesh.xyz[k]; });
       cells_section(s, D == 2 ? "Lines" : "Polys", mesh.cells);
+      end_piece(s);
+    });
+  });
+}
+
+namespace {
+
+// The faces of the polyhedral grains at their poses: each grain's corners once, then its faces
+// as loops of those points, each with the grain's slot (its per-grain data) and its normal.
+struct PolyhedronFaces {
+  std::vector<double> xyz;
+  std::vector<std::int64_t> connectivity, offsets;
+  std::vector<std::uint32_t> owner;  // per face, the grain's slot
+  std::vector<double> normal;        // per face, 3 components
+
+  explicit PolyhedronFaces(const World<3>& world) {
+    const auto& p = world.particles;
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      if (!p.polyhedron(k)) continue;
+      const ConvexPolyhedron& solid = world.shapes[p.shape_index[k]].solid;
+      const auto first = static_cast<std::int64_t>(xyz.size() / 3);
+      for (const Eigen::Vector3d& v : solid.vertices()) {
+        const Eigen::Vector3d x = p.q[k] * v + p.x[k];
+        xyz.insert(xyz.end(), x.data(), x.data() + 3);
+      }
+      for (std::size_t f = 0; f < solid.face_count(); ++f) {
+        // The body-frame loops run counterclockwise seen from outside; a rotation keeps that.
+        for (std::uint32_t c : solid.face(f)) connectivity.push_back(first + c);
+        offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
+        owner.push_back(static_cast<std::uint32_t>(k));
+        const Eigen::Vector3d n = p.q[k] * solid.normals()[f];
+        normal.insert(normal.end(), n.data(), n.data() + 3);
+      }
+    }
+  }
+};
+
+}  // namespace
+
+void write_polyhedra_vtp(const World<3>& world, const std::string& path, VtkEncoding encoding) {
+  const auto& p = world.particles;
+  const PolyhedronFaces faces(world);
+  const std::size_t nfaces = faces.owner.size();
+  // Each face carries its grain's data, read in place through the face's owner.
+  const auto grain3 = [&](const std::vector<Eigen::Vector3d>& v) {
+    return [&faces, &v](std::size_t k) { return v[faces.owner[k / 3]][k % 3]; };
+  };
+  const auto grain = [&](std::size_t f) { return faces.owner[f]; };
+  write_pieces_atomic(path, [&](const PutText& put) {
+    write_vtk_xml(put, encoding, "PolyData", [&](VtkXmlWriter& s) {
+      begin_piece(s, {faces.xyz.size() / 3, 0, 0, nfaces});
+      s.text("<CellData Scalars=\"id\" Vectors=\"velocity\" Normals=\"normal\">\n");
+      s.int_array<std::int64_t>("id", nfaces, [&](std::size_t f) { return p.id[grain(f)].index; });
+      s.real_array("velocity", 3, 3 * nfaces, grain3(p.v));
+      s.real_array("angular_velocity", 3, 3 * nfaces, grain3(p.omega));
+      s.int_array<std::int32_t>("material", nfaces,
+                                [&](std::size_t f) { return p.material[grain(f)]; });
+      s.int_array<std::uint8_t>("fixed", nfaces,
+                                [&](std::size_t f) { return p.fixed(grain(f)) ? 1 : 0; });
+      real_array(s, "normal", 3, faces.normal);
+      s.text("</CellData>\n");
+      points_section(s, faces.xyz.size(), [&](std::size_t k) { return faces.xyz[k]; });
+      cells_section(s, "Polys", faces.connectivity, faces.offsets);
       end_piece(s);
     });
   });

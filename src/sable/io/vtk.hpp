@@ -3,7 +3,8 @@
 // Three files describe a moment of a run: the grains (points with per-grain data and a vertex
 // cell each so ParaView draws them), the touching contacts (a line between the two centres,
 // with the normal and tangential force), and the walls (planes clipped to the neighbour-list
-// domain box, cylinders as a triangulated side surface). 2D runs write z = 0 and the angular
+// domain box, cylinders as a triangulated side surface). A 3D run with polyhedral grains adds
+// a fourth: their faces as polygons at the grains' poses. 2D runs write z = 0 and the angular
 // velocity as (0, 0, w). Every file is replaced atomically (temporary + rename). The arrays are
 // raw binary by default, zlib-compressed or ASCII on request (io/vtk_xml.hpp).
 #pragma once
@@ -17,8 +18,10 @@
 
 namespace sable {
 
-// PointData: id (stable id index), radius, velocity, angular_velocity, force, coordination
-// (touching grain and wall contacts), material, fixed.
+// One point per grain, at its centre (a polyhedron's centroid). PointData: id (stable id
+// index), radius (a polyhedron's: its bounding sphere's about the centroid, the radius the
+// broad phase uses; its faces are in write_polyhedra_vtp's file), velocity, angular_velocity,
+// force, coordination (touching grain and wall contacts), material, fixed.
 template <int D>
 void write_grains_vtp(const World<D>& world, const std::string& path,
                       VtkEncoding encoding = VtkEncoding::kBinary);
@@ -35,6 +38,16 @@ void write_contacts_vtp(const World<D>& world, const std::string& path,
 template <int D>
 void write_walls_vtp(const World<D>& world, const std::string& path,
                      VtkEncoding encoding = VtkEncoding::kBinary);
+
+// One polygon cell per face of every polyhedral grain (round grains are not in this file),
+// its corners counterclockwise seen from outside (the loop's right-hand normal points out, as
+// the normals ParaView computes from a polygon's winding then do). Each grain's corners are
+// written once, posed in the world: q * v + x, the body-frame corner v turned by the grain's
+// orientation q and moved to its centroid x. CellData per face: id (the grain's stable id
+// index), velocity, angular_velocity, material, fixed (the grain's), normal (the face's
+// outward unit normal in the world). A 2D world has no polyhedra: 3D only.
+void write_polyhedra_vtp(const World<3>& world, const std::string& path,
+                         VtkEncoding encoding = VtkEncoding::kBinary);
 
 // A ParaView .pvd collection of time steps, rewritten atomically after each add.
 class PvdSeries {

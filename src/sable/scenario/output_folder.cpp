@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <charconv>
 #include <filesystem>
+#include <iterator>
 #include <vector>
 
 #include "sable/core/error.hpp"
@@ -18,10 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kOwnedFiles[] = {"series.csv", "grains.pvd", "contacts.pvd", "walls.pvd"};
+constexpr const char* kOwnedFiles[] = {"series.csv", "grains.pvd", "contacts.pvd", "walls.pvd",
+                                       "polyhedra.pvd"};
 constexpr const char* kOwnedDirs[] = {"vtk", "snapshots", "xdmf"};
-constexpr std::size_t kListed =
-    7;  // names quoted in a message (every owned entry); the rest counted
+// Names quoted in a message (every owned entry); the rest counted.
+constexpr std::size_t kListed = std::size(kOwnedFiles) + std::size(kOwnedDirs);
 
 std::optional<std::uint64_t> parse_digits(std::string_view s) {
   if (s.empty() || s.size() > 19) return std::nullopt;
@@ -173,7 +175,8 @@ std::optional<std::uint64_t> step_in_file_name(const std::string& name) {
   if (sep == std::string_view::npos) return std::nullopt;
   const std::string_view prefix = stem.substr(0, sep);
   const bool known = prefix == "step" || prefix == "crash_step" || prefix == "interrupted_step" ||
-                     prefix == "grains" || prefix == "contacts" || prefix == "walls";
+                     prefix == "grains" || prefix == "contacts" || prefix == "walls" ||
+                     prefix == "polyhedra";
   return known ? parse_digits(stem.substr(sep + 1)) : std::nullopt;
 }
 

@@ -1,8 +1,8 @@
 // What a run does with the output folder it is given (docs/reliability.md, "Output folders").
 //
 // A run owns these entries of its folder: series.csv, grains.pvd, contacts.pvd, walls.pvd,
-// vtk/, snapshots/ and xdmf/ (the snapshots' XDMF sidecars). Nothing else in the folder is
-// read, changed or removed.
+// polyhedra.pvd, vtk/, snapshots/ and xdmf/ (the snapshots' XDMF sidecars). Nothing else in
+// the folder is read, changed or removed.
 // - A fresh run refuses a folder that already holds any of them (another run's snapshots
 //   left beside this run's would be taken for its own), unless `overwrite`, which deletes
 //   exactly those entries first.
@@ -36,7 +36,8 @@ void prepare_output_folder(const OutputFolderRequest& req,
                            const std::function<void(const std::string&)>& log);
 
 // The step a snapshot or VTK frame file name carries (`step_0000000100.h5`,
-// `crash_step_...`, `interrupted_step_...`, `grains_0000000100.vtp`), or nullopt.
+// `crash_step_...`, `interrupted_step_...`, `grains_0000000100.vtp` and the other frames:
+// contacts_, walls_, polyhedra_), or nullopt.
 std::optional<std::uint64_t> step_in_file_name(const std::string& name);
 
 }  // namespace sable

@@ -8,6 +8,9 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
+#include <utility>
+#include <vector>
 
 #include "sable/core/error.hpp"
 #include "sable/io/csv.hpp"
@@ -247,9 +250,14 @@ void Simulation<D>::open_outputs(bool resuming) {
   csv_.emplace((out_ / "series.csv").string(), cols,
                resuming ? std::optional<std::uint64_t>(world_.step) : std::nullopt);
   // A resumed series keeps its frames up to the resume point.
-  for (auto [pvd, name] : {std::pair{&grains_pvd_, "grains.pvd"},
-                           {&contacts_pvd_, "contacts.pvd"},
-                           {&walls_pvd_, "walls.pvd"}}) {
+  std::vector<std::pair<std::optional<PvdSeries>*, const char*>> series{
+      {&grains_pvd_, "grains.pvd"}, {&contacts_pvd_, "contacts.pvd"}, {&walls_pvd_, "walls.pvd"}};
+  // The polyhedral grains' faces. The shape table is filled when the grains are built and a
+  // snapshot keeps it: a run that has one here has it at every frame.
+  if constexpr (D == 3) {
+    if (!world_.shapes.empty()) series.emplace_back(&polyhedra_pvd_, "polyhedra.pvd");
+  }
+  for (auto [pvd, name] : series) {
     const std::string path = (out_ / name).string();
     if (resuming)
       pvd->emplace(path, world_.time);
@@ -402,6 +410,12 @@ void Simulation<D>::write_frame() {
   if (cfg_.output.vtk_walls && !w.walls.empty()) {
     write_walls_vtp(w, (out_ / "vtk" / ("walls_" + stem)).string(), format);
     walls_pvd_->add(w.time, "vtk/walls_" + stem);
+  }
+  if constexpr (D == 3) {
+    if (polyhedra_pvd_) {
+      write_polyhedra_vtp(w, (out_ / "vtk" / ("polyhedra_" + stem)).string(), format);
+      polyhedra_pvd_->add(w.time, "vtk/polyhedra_" + stem);
+    }
   }
 }
 

@@ -134,6 +134,8 @@ class Simulation {
   RunPosition pos_;
   std::optional<CsvLog> csv_;
   std::optional<PvdSeries> grains_pvd_, contacts_pvd_, walls_pvd_;
+  // Open only in a 3D world with polyhedral grains (a shape table).
+  std::optional<PvdSeries> polyhedra_pvd_;
   std::vector<ServoTarget> servo_;         // this stage's stress-controlled walls
   std::optional<BoxState<D>> box_ref_;     // strain reference, if a box
   std::optional<StageClock> stage_clock_;  // set while in a stage
