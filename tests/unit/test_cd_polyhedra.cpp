@@ -12,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "sable/analysis/sample.hpp"
 #include "sable/cd/cd_solver.hpp"
 #include "sable/core/error.hpp"
 #include "sable/dem/dem_solver.hpp"
@@ -373,6 +374,8 @@ TEST(CdPolyhedra, RefusesWhatItDoesNotHandle) {
   cylinder.set_cylinder(0.1);
   drum.walls.push_back(cylinder);
   EXPECT_THROW(sable::CdSolver<3>(drum, {}).initialize(), sable::InputError);
+  // Analyses would read the round grains' normals and arms: refused.
+  EXPECT_THROW(sable::make_sample(w), sable::InputError);
 }
 
 }  // namespace

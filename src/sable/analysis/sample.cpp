@@ -174,6 +174,13 @@ void add_contacts(const World<D>& w, Sample<D>& s) {
 template <int D>
 Sample<D> make_sample(const World<D>& w, ForceGeometry geometry) {
   using S = Space<D>;
+  // A polyhedral pair's force acts at its manifold's centre of pressure along the manifold's
+  // normal, neither of which the lists keep yet: the round grains' normals and arms would give
+  // wrong normal forces and stresses, so no analysis reads such a World.
+  if (!w.shapes.empty())
+    throw InputError(
+        "analysis of polyhedral grains: their contacts' normals and points are not kept yet "
+        "(the snapshot's forces, positions and orientations are; docs/analysis.md)");
   Sample<D> s;
   s.geometry = geometry;
   add_grains(w, s);

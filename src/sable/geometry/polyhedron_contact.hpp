@@ -17,9 +17,12 @@
 // > 0 apart by at least that much, < 0 overlapping by at least its magnitude. `separation` is
 // the largest over the axes tested: for overlapping shapes, minus the penetration depth (the
 // shortest translation that parts them); for shapes apart, a lower bound of their distance,
-// and > 0 exactly when they are apart. For an edge pair the edges themselves are the
-// extreme points along the axis (that is what the Gauss-map test says), so each pair costs
-// O(1); a face axis takes the other shape's lowest vertex.
+// and > 0 exactly when they are apart. The axes are tested faces of A, faces of B, then edge
+// pairs, and the test stops at the first family that shows the shapes apart by more than the
+// margin (its best axis then gives the normal): for shapes within the margin every axis is
+// tested, and the answer is the same as without the early stops. For an edge pair the edges
+// themselves are the extreme points along the axis (that is what the Gauss-map test says), so each
+// pair costs O(1); a face axis takes the other shape's lowest vertex.
 //
 // Axis preference. Near a resting contact a face axis and an edge axis (or a face of each
 // shape) can be equally good within rounding, or nearly so under a slight tilt, and choosing
