@@ -80,7 +80,8 @@ void BM_PolyhedraStep(benchmark::State& state) {
   std::mt19937_64 gen(3);
   const double r = 0.005, pitch = 2.0 * r + 1e-4;
   for (int k = 0; k < 12 * 12 * 8; ++k) {
-    const Vec centre(pitch * (k % 12 - 6), pitch * (k / 12 % 12 - 6), r + pitch * (k / 144));
+    const Vec centre(pitch * (k % 12 - 6), pitch * (k / 12 % 12 - 6),
+                     r + pitch * static_cast<double>(k / 144));
     sable::add_polyhedral_grain(w, random_corners(gen, centre, r, 10), 2500.0, 0);
   }
   std::unique_ptr<sable::Solver> s;

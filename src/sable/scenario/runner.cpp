@@ -142,6 +142,11 @@ void Simulation<D>::setup() {
   // Under MPI each process keeps its share of the whole world it built or loaded; a rebuild
   // the resume asked for (adopt_scenario_steps) stays asked for.
   const bool rebuild = world_.neighbors.x_ref.empty();
+  if (domain_->distributed() && !world_.shapes.empty())
+    throw InputError(fmt::format(
+        "{}: polyhedral grains run on one process (the processes would need the shape table); "
+        "run without mpirun, with --threads",
+        cfg_.path));
   domain_->scatter(world_);
   if (rebuild) world_.neighbors.x_ref.clear();
   if (opt_.resume.empty()) {
