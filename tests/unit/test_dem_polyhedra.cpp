@@ -183,8 +183,8 @@ sable::World<3> heap(int nx, int nz, std::uint64_t seed) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const double r = 0.5 * kA, pitch = 2.0 * r + 0.01 * kA;
   for (int k = 0; k < nx * nx * nz; ++k) {
-    const Vec centre(pitch * (k % nx - 0.5 * nx), pitch * (k / nx % nx - 0.5 * nx),
-                     r + pitch * static_cast<double>(k / (nx * nx)));  // the layer
+    const int column = k % nx, row = k / nx % nx, layer = k / (nx * nx);
+    const Vec centre(pitch * (column - 0.5 * nx), pitch * (row - 0.5 * nx), r + pitch * layer);
     std::vector<Vec> points;
     for (int c = 0; c < 10; ++c) {
       Vec d;
