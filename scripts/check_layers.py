@@ -8,7 +8,7 @@ naming the file, the line and the two layers) when a file includes a module of i
 or above, other than its own module. The layers, bottom to top (docs/ARCHITECTURE.md,
 "Layers"):
 
-    core < geometry, generation < collision < contact < world < loading, io, mpi
+    core < geometry < collision, generation < contact < world < loading, io, mpi
          < dem, cd, analysis < scenario < apps
 
 so io and analysis read the world, never a solver, and nothing below the scenario knows a
@@ -22,7 +22,7 @@ from pathlib import Path
 LAYER = {
     "core": 0,
     "geometry": 1,
-    "generation": 1,
+    "generation": 2,
     "collision": 2,
     "contact": 3,
     "world": 4,

@@ -26,8 +26,9 @@ constexpr std::uint64_t kSmallTries = 1'000'000;
 bool small(const sable::ScenarioConfig& cfg) {
   std::uint64_t grains = 0, tries = 0;
   for (const auto& g : cfg.grains) {
-    // A data file names any path on this machine: not this target's business.
-    if (g.generator == "file") return false;
+    // A data file, or a shape file, names any path on this machine: not this target's
+    // business.
+    if (g.generator == "file" || !g.shape.file.empty()) return false;
     grains += g.count + g.positions.size();
     if (g.generator == "random") tries += g.count * g.max_attempts;
   }

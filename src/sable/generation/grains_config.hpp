@@ -28,6 +28,22 @@ struct RegionConfig {
   double zlo = 0.0, zhi = 0.0;
 };
 
+// The grains' shape (key `shape`, 3D only): round, the default; random convex polyhedra, one
+// per grain; or one convex shape given by its points or by a file's vertices. A polyhedral
+// grain is scaled so that its bounding sphere about its centroid has the radius the block's
+// radius distribution gives, and sits with its centroid where the generator put the sphere's
+// centre: the generators' spheres, which do not overlap, hold polyhedra that do not either.
+struct GrainShapeConfig {
+  enum class Kind { kSphere, kRandomPolyhedron, kGiven } kind = Kind::kSphere;
+  std::size_t vertices = 12;       // random: the points drawn on the unit sphere, in [4, 64]
+  Vec3a aspect{1.0, 1.0, 1.0};     // random: the sphere stretched by these along x, y, z, in (0, 1]
+  std::vector<Vec3a> points;       // given: the points, when no file
+  std::string file;                // given: an STL or OBJ file (read when the grains are built)
+  bool random_orientation = true;  // given: each grain turned at random, or as the points stand
+  std::string key;                 // "grains[1].shape", for messages
+  bool polyhedral() const { return kind != Kind::kSphere; }
+};
+
 struct GrainsConfig {
   std::string generator = "lattice";  // "lattice" | "random" | "list" | "file"
   std::string material;
@@ -46,6 +62,7 @@ struct GrainsConfig {
   Vec3a velocity{0, 0, 0};
   bool fixed = false;
   std::size_t max_attempts = 1000;  // random insertion: tries per grain
+  GrainShapeConfig shape;
   SourceLoc loc;
 };
 

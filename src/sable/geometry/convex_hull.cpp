@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "sable/core/error.hpp"
@@ -33,8 +34,14 @@ double above(const Face& f, const Eigen::Vector3d& x) {
 }
 
 // The first tetrahedron: the lowest point in x, the farthest from it, the farthest from their
-// line, the farthest from their plane (each the first of equals).
-std::array<std::uint32_t, 4> first_tetrahedron(const Points& p, double eps, const char* what) {
+// line, the farthest from their plane (each the first of equals). `spans` is 1 when the points
+// lie within eps of one line, 2 when within eps of one plane (no tetrahedron), else 3.
+struct Start {
+  std::array<std::uint32_t, 4> corners{};
+  int spans = 3;
+};
+
+Start first_tetrahedron(const Points& p, double eps) {
   const auto n = static_cast<std::uint32_t>(p.size());
   auto farthest = [&](auto&& measure) {
     std::uint32_t best = 0;
@@ -54,15 +61,24 @@ std::array<std::uint32_t, 4> first_tetrahedron(const Points& p, double eps, cons
   const auto line =
       farthest([&](const Eigen::Vector3d& x) { return (x - p[i0]).cross(axis).norm(); });
   const std::uint32_t i2 = line.first;
-  if (!(line.second > eps))
-    throw InputError(fmt::format("{}: its {} points lie on one line: no volume", what, n));
+  if (!(line.second > eps)) return {{}, 1};
   const Eigen::Vector3d normal = (p[i1] - p[i0]).cross(p[i2] - p[i0]).normalized();
   const auto plane =
       farthest([&](const Eigen::Vector3d& x) { return std::abs(normal.dot(x - p[i0])); });
-  const std::uint32_t i3 = plane.first;
-  if (!(plane.second > eps))
-    throw InputError(fmt::format("{}: its {} points lie in one plane: no volume", what, n));
-  return {i0, i1, i2, i3};
+  if (!(plane.second > eps)) return {{}, 2};
+  return {{i0, i1, i2, plane.first}, 3};
+}
+
+// The hull's tolerance: 1e-12 of the points' extent (the largest side of their bounding box);
+// NaN when a point is not finite.
+double hull_tolerance(const Points& points) {
+  Eigen::Vector3d lo = points[0], hi = points[0];
+  for (const auto& x : points) {
+    if (!x.allFinite()) return std::numeric_limits<double>::quiet_NaN();
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  return 1e-12 * (hi - lo).maxCoeff();
 }
 
 // Adds point k to the hull of `faces`: the faces it sees go, and each edge of their horizon
@@ -88,18 +104,23 @@ void add_point(const Points& p, std::uint32_t k, double eps, std::vector<Face>& 
 
 }  // namespace
 
+bool spans_volume(const std::vector<Eigen::Vector3d>& points) {
+  if (points.size() < 4) return false;
+  const double eps = hull_tolerance(points);
+  return !std::isnan(eps) && first_tetrahedron(points, eps).spans == 3;
+}
+
 ConvexHull convex_hull(const std::vector<Eigen::Vector3d>& points, const char* what) {
   if (points.size() < 4)
     throw InputError(
         fmt::format("{}: {} points, expected at least 4 (a solid)", what, points.size()));
-  Eigen::Vector3d lo = points[0], hi = points[0];
-  for (const auto& x : points) {
-    if (!x.allFinite()) throw InputError(fmt::format("{}: a point is not finite", what));
-    lo = lo.cwiseMin(x);
-    hi = hi.cwiseMax(x);
-  }
-  const double eps = 1e-12 * (hi - lo).maxCoeff();
-  const auto t = first_tetrahedron(points, eps, what);
+  const double eps = hull_tolerance(points);
+  if (std::isnan(eps)) throw InputError(fmt::format("{}: a point is not finite", what));
+  const Start start = first_tetrahedron(points, eps);
+  if (start.spans < 3)
+    throw InputError(fmt::format("{}: its {} points lie {}: no volume", what, points.size(),
+                                 start.spans == 1 ? "on one line" : "in one plane"));
+  const auto& t = start.corners;
   std::vector<Face> faces;
   // Each face of the tetrahedron, turned so that the fourth corner lies below it.
   const std::array<std::array<int, 4>, 4> sides = {

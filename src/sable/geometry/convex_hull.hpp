@@ -31,4 +31,8 @@ struct ConvexHull {
 ConvexHull convex_hull(const std::vector<Eigen::Vector3d>& points,
                        const char* what = "convex hull");
 
+// Whether convex_hull(points) has a solid to return: at least 4 finite points, not all within
+// its tolerance of one plane. (A generator of random shapes draws again when it is false.)
+bool spans_volume(const std::vector<Eigen::Vector3d>& points);
+
 }  // namespace sable

@@ -1,19 +1,26 @@
 #include "sable/scenario/build.hpp"
 
 #include <fmt/format.h>
+
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <limits>
+#include <map>
 #include <numbers>
 
 #include "sable/cd/cd_solver.hpp"
 #include "sable/core/error.hpp"
 #include "sable/dem/dem_solver.hpp"
 #include "sable/generation/generate.hpp"
+#include "sable/generation/shape_draws.hpp"
 #include "sable/geometry/surface_mesh.hpp"
+#include "sable/io/obj.hpp"
 #include "sable/io/stl.hpp"
 #include "sable/scenario/initial_state.hpp"
 #include "sable/world/critical_time.hpp"
+#include "sable/world/polyhedral_grains.hpp"
 
 namespace sable {
 namespace {
@@ -207,6 +214,61 @@ Blocked wall_blocker(const ScenarioConfig& cfg, const World<D>& w) {
   };
 }
 
+// The vertices of a block's shape file (OBJ by its extension, else STL: the parser took no
+// other), or none when the shape gives its points.
+std::vector<Eigen::Vector3d> shape_file_points(const GrainShapeConfig& shape) {
+  if (shape.file.empty()) return {};
+  std::string ext = std::filesystem::path(shape.file).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".obj") return read_obj_vertices(shape.file);
+  return read_stl(shape.file, 1.0, Eigen::Vector3d::Zero()).vertices;
+}
+
+// The draws of a block's shapes, the shape file read; an error names the block and the key.
+ShapeDraws block_shape_draws(const GrainsConfig& block, std::uint64_t seed) {
+  const GrainShapeConfig& shape = block.shape;
+  try {
+    return ShapeDraws(shape, seed, shape_file_points(shape), clip(shape.file));
+  } catch (const InputError& e) {
+    // A file's messages name the file (and line); the shape's own points name their key.
+    throw InputError(fmt::format("{}: {}{}", block.loc.str(),
+                                 shape.file.empty() ? "" : shape.key + ".file: ", e.what()));
+  }
+}
+
+// A block of polyhedral grains (3D): on each generated sphere, a polyhedron whose bounding
+// sphere about its centroid is that sphere (its unit shape times the radius), turned as the
+// draws say. Random polyhedra add a row of the shape table per grain; a given shape a row per
+// distinct radius, which its grains share.
+void add_polyhedral_block(const GrainsConfig& block, std::uint64_t seed,
+                          const std::vector<GrainSeed>& seeds, MaterialIndex mat, World<3>& w) {
+  ShapeDraws draws = block_shape_draws(block, seed);
+  const double density = w.materials[mat].density;
+  std::map<double, ShapePlacement> rows;
+  std::vector<Eigen::Vector3d> corners;
+  try {
+    for (const GrainSeed& g : seeds) {
+      draws.next();
+      ShapePlacement placed;
+      if (const auto row = rows.find(g.radius); row != rows.end()) {
+        placed = row->second;
+      } else {
+        corners = draws.unit();
+        for (Eigen::Vector3d& c : corners) c *= g.radius;
+        placed = w.shapes.add(corners, block.shape.key.c_str());
+        if (!draws.random_shapes()) rows.emplace(g.radius, placed);
+      }
+      // A body point b stands at x + turn frame b: `frame` takes the body frame to the unit
+      // shape's axes (GrainShapes::add), the draw's turn those to the world.
+      add_polyhedral_grain(w, placed.index, Space<3>::from_array(g.x), draws.turn() * placed.frame,
+                           density, mat, block.fixed);
+      if (!block.fixed) w.particles.v.back() = Space<3>::from_array(block.velocity);
+    }
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", block.loc.str(), e.what()));
+  }
+}
+
 }  // namespace
 
 template <int D>
@@ -221,9 +283,18 @@ void build_grains(const ScenarioConfig& cfg, World<D>& w) {
     const auto seeds = generate_grains(block, D, seed, all, blocked);
     const MaterialIndex mat = material_index(w, block.material);
     const Material& m = w.materials[mat];
-    for (const auto& g : seeds) {
-      w.particles.add(S::from_array(g.x), g.radius, m.density, mat, cfg.sim.thickness, block.fixed);
-      if (!block.fixed) w.particles.v.back() = S::from_array(block.velocity);
+    if (block.shape.polyhedral()) {
+      if constexpr (D == 3)
+        add_polyhedral_block(block, seed, seeds, mat, w);
+      else  // the parser refuses a shape in 2D; a GrainsConfig made by hand may hold one
+        throw InputError(
+            fmt::format("{}: {}: polyhedral grains are 3D only", block.loc.str(), block.shape.key));
+    } else {
+      for (const auto& g : seeds) {
+        w.particles.add(S::from_array(g.x), g.radius, m.density, mat, cfg.sim.thickness,
+                        block.fixed);
+        if (!block.fixed) w.particles.v.back() = S::from_array(block.velocity);
+      }
     }
     all.insert(all.end(), seeds.begin(), seeds.end());
   }

@@ -15,6 +15,7 @@
 #include "sable/core/error.hpp"
 #include "sable/scenario/config.hpp"
 #include "sable/scenario/parse_contact.hpp"
+#include "sable/scenario/parse_shape.hpp"
 #include "sable/scenario/parse_walls.hpp"
 #include "sable/scenario/toml_reader.hpp"
 
@@ -344,7 +345,7 @@ void parse_generator_keys(const Table& g, GrainsConfig& gc, int dim) {
 GrainsConfig parse_grains_entry(const Table& g, const ScenarioConfig& cfg) {
   g.check_keys({"generator", "material", "radius", "region", "count", "spacing", "jitter",
                 "jitter_rng", "seed", "positions", "file", "velocity", "fixed", "max_attempts",
-                "arrangement"});
+                "arrangement", "shape"});
   const int dim = cfg.sim.dimension;
   GrainsConfig gc;
   gc.generator = g.choice("generator", {"lattice", "random", "list", "file"}, "");
@@ -367,6 +368,7 @@ GrainsConfig parse_grains_entry(const Table& g, const ScenarioConfig& cfg) {
   parse_generator_keys(g, gc, dim);
   gc.velocity = g.vector("velocity", dim).value_or(gc.velocity);
   gc.fixed = g.boolean_or("fixed", gc.fixed);
+  gc.shape = detail::parse_grain_shape(g, cfg);
   gc.loc = g.loc();
   return gc;
 }
@@ -558,6 +560,7 @@ ScenarioConfig parse_scenario(const std::string& text, const std::string& path,
   }
   std::vector<std::string> wall_names;
   cfg.walls = detail::parse_walls(root, cfg, wall_names);
+  detail::check_polyhedral_scenario(root, cfg);
   const auto stages = root.table_array("stage");
   if (stages.empty()) root.fail_missing("stage", "at least one [[stage]] table");
   for (std::size_t i = 0; i < stages.size(); ++i) {
