@@ -87,7 +87,7 @@ fs::path dem_scenario(const fs::path& dir, bool linear) {
   text.replace(text.find("friction = 0.4"), 14, "friction = 0.4\nyoung = 5e7\npoisson = 0.3");
   text.erase(text.find("[cd]"), text.find("[[grains]]") - text.find("[cd]"));
   if (linear) text += "\n[contact]\nnormal = \"linear\"\nkn = 1e3\nkt = 800.0\n";
-  const fs::path scenario = dir / (linear ? "dem_linear.toml" : "dem_hertz.toml");
+  fs::path scenario = dir / (linear ? "dem_linear.toml" : "dem_hertz.toml");
   std::ofstream(scenario) << text;
   return scenario;
 }

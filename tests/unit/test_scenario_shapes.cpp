@@ -221,7 +221,7 @@ TEST(ScenarioShapes, AlignedShapeStandsAsItsPoints) {
 
 // A folder of its own for one test's files.
 fs::path test_folder(const std::string& name) {
-  const fs::path dir =
+  fs::path dir =
       fs::temp_directory_path() / ("sable_shapes_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
