@@ -12,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "polyhedra_helpers.hpp"
 #include "sable/analysis/sample.hpp"
 #include "sable/cd/cd_solver.hpp"
 #include "sable/core/error.hpp"
@@ -59,17 +60,6 @@ void add_plane(sable::World<3>& w, const Vec& point, const Vec& normal) {
   w.walls.push_back(wall);
 }
 
-// The corners of the box [lo, hi], turned by q about `about`.
-std::vector<Vec> box(const Vec& lo, const Vec& hi, const Quat& q = Quat::Identity(),
-                     const Vec& about = Vec::Zero()) {
-  std::vector<Vec> v;
-  for (int k = 0; k < 8; ++k)
-    v.push_back(about + q * (Vec(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(),
-                                 k & 4 ? hi.z() : lo.z()) -
-                             about));
-  return v;
-}
-
 // The contacts' total force on grain g and their moment about its centroid, from the
 // solver's stored forces (the grain's f, t: impulses / h).
 struct Load {
@@ -99,7 +89,8 @@ std::vector<double> normal_forces(const sable::World<3>& w) {
 TEST(PolyhedralGrains, CubeKeepsItsAxesAndExactMass) {
   sable::World<3> w = rigid_world(0.5, 1e-4);
   const Vec lo(0.1, -0.02, 0.03);
-  const auto id = sable::add_polyhedral_grain(w, box(lo, lo + Vec::Constant(kA)), kRho, 0);
+  const auto id =
+      sable::add_polyhedral_grain(w, sable::test::box_points(lo, lo + Vec::Constant(kA)), kRho, 0);
   const std::size_t g = w.particles.ids.slot(id);
   const double m = kRho * kA * kA * kA;
   // Exact: m = rho a^3, I = m a^2 / 6 about every axis through the centre (1e-12 relative:
@@ -169,7 +160,8 @@ TEST(PolyhedralGrains, RegularTetrahedronExactMass) {
 TEST(CdPolyhedra, CubeRestsOnAPlaneOnFourPoints) {
   sable::World<3> w = rigid_world(0.5, 1e-4);
   add_plane(w, Vec::Zero(), Vec::UnitZ());
-  sable::add_polyhedral_grain(w, box(Vec(-0.5, -0.5, 0) * kA, Vec(0.5, 0.5, 1) * kA), kRho, 0);
+  sable::add_polyhedral_grain(
+      w, sable::test::box_points(Vec(-0.5, -0.5, 0) * kA, Vec(0.5, 0.5, 1) * kA), kRho, 0);
   sable::CdSolver<3> solver(w, tight());
   solver.initialize();
   for (int k = 0; k < 20; ++k) solver.step();
@@ -189,10 +181,11 @@ TEST(CdPolyhedra, CubeRestsOnAPlaneOnFourPoints) {
 TEST(CdPolyhedra, CubeRestsOnACube) {
   for (const double turn : {0.0, std::numbers::pi / 4}) {
     sable::World<3> w = rigid_world(0.5, 1e-4);
-    sable::add_polyhedral_grain(w, box(Vec(-0.5, -0.5, -1) * kA, Vec(0.5, 0.5, 0) * kA), kRho, 0,
-                                true);
+    sable::add_polyhedral_grain(
+        w, sable::test::box_points(Vec(-0.5, -0.5, -1) * kA, Vec(0.5, 0.5, 0) * kA), kRho, 0, true);
     const Quat q(Eigen::AngleAxisd(turn, Vec::UnitZ()));
-    sable::add_polyhedral_grain(w, box(Vec(-0.5, -0.5, 0) * kA, Vec(0.5, 0.5, 1) * kA, q), kRho, 0);
+    sable::add_polyhedral_grain(
+        w, sable::test::box_points(Vec(-0.5, -0.5, 0) * kA, Vec(0.5, 0.5, 1) * kA, q), kRho, 0);
     sable::CdSolver<3> solver(w, tight());
     solver.initialize();
     for (int k = 0; k < 20; ++k) solver.step();
@@ -250,7 +243,8 @@ TEST(CdPolyhedra, CubeOnInclineSticksOrSlides) {
     sable::World<3> w = rigid_world(mu, h);
     add_plane(w, Vec::Zero(), n);
     const Quat q(Eigen::AngleAxisd(-theta, Vec::UnitY()));
-    sable::add_polyhedral_grain(w, box(Vec(-0.5, -0.5, 0) * kA, Vec(0.5, 0.5, 1) * kA, q), kRho, 0);
+    sable::add_polyhedral_grain(
+        w, sable::test::box_points(Vec(-0.5, -0.5, 0) * kA, Vec(0.5, 0.5, 1) * kA, q), kRho, 0);
     sable::CdSolver<3> solver(w, tight());
     solver.initialize();
     const int steps = 50;
@@ -275,7 +269,7 @@ TEST(CdPolyhedra, CubeOnInclineSticksOrSlides) {
 TEST(CdPolyhedra, LoneBoxTurnsFreelyWithItsInertiaTensor) {
   sable::World<3> w = rigid_world(0.5, 1e-4);
   w.gravity.setZero();
-  sable::add_polyhedral_grain(w, box(Vec::Zero(), Vec(1, 2, 3) * kA), kRho, 0);
+  sable::add_polyhedral_grain(w, sable::test::box_points(Vec::Zero(), Vec(1, 2, 3) * kA), kRho, 0);
   const Vec inertia = sable::principal_inertia(w, 0);
   EXPECT_GT(inertia[0], inertia[1]);  // x is the box's longest moment (sides 2 and 3 around it)
   w.particles.omega[0] = Vec(0.5, 0.01, 30.0);
@@ -300,16 +294,11 @@ sable::World<3> heap(int nx, int nz, std::uint64_t seed) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const double r = 0.5 * kA, pitch = 2.0 * r + 0.01 * kA;
   for (int k = 0; k < nx * nx * nz; ++k) {
-    const int column = k % nx, row = k / nx % nx, layer = k / (nx * nx);
-    const Vec centre(pitch * (column - 0.5 * nx), pitch * (row - 0.5 * nx), r + pitch * layer);
+    const Vec centre = sable::test::heap_site(k, nx, r, pitch);
     const Vec axes(r, r * (0.6 + 0.4 * std::abs(u(gen))), r * (0.5 + 0.5 * std::abs(u(gen))));
-    std::vector<Vec> points;
     const int corners = 8 + static_cast<int>(gen() % 7);
-    for (int c = 0; c < corners; ++c) {
-      Vec d;
-      for (int i = 0; i < 3; ++i) d[i] = u(gen);
-      points.push_back(centre + axes.cwiseProduct(d.normalized()));
-    }
+    const std::vector<Vec> points =
+        sable::test::ellipsoid_points(centre, axes, corners, [&] { return u(gen); });
     const auto id = sable::add_polyhedral_grain(w, points, kRho, 0);
     Vec v;
     for (int i = 0; i < 3; ++i) v[i] = 0.2 * u(gen);
@@ -364,7 +353,7 @@ TEST(CdPolyhedra, ThreadCountGivesTheSameBits) {
 // other than planes; DEM takes them with the linear law only (this world's is Hertz).
 TEST(CdPolyhedra, RefusesWhatItDoesNotHandle) {
   sable::World<3> w = rigid_world(0.5, 1e-4);
-  sable::add_polyhedral_grain(w, box(Vec::Zero(), Vec::Constant(kA)), kRho, 0);
+  sable::add_polyhedral_grain(w, sable::test::box_points(Vec::Zero(), Vec::Constant(kA)), kRho, 0);
   EXPECT_THROW(sable::DemSolver<3>(w).initialize(), sable::InputError);
   sable::World<3> mixed = w;
   mixed.particles.add(Vec(0.1, 0, 0), 0.5 * kA, kRho, 0, 1.0);

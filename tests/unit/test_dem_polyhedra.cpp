@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "polyhedra_helpers.hpp"
 #include "sable/contact/registry.hpp"
 #include "sable/core/error.hpp"
 #include "sable/dem/dem_solver.hpp"
@@ -54,13 +55,6 @@ void add_plane(sable::World<3>& w, const Vec& normal) {
   w.walls.push_back(wall);
 }
 
-std::vector<Vec> box(const Vec& lo, const Vec& hi, const Quat& q = Quat::Identity()) {
-  std::vector<Vec> v;
-  for (int k = 0; k < 8; ++k)
-    v.push_back(q * Vec(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z()));
-  return v;
-}
-
 // The four springs' forces k_n delta_p of a grain's manifold against the plane z = 0.
 std::vector<double> corner_loads_on_plane(const sable::World<3>& w, std::size_t g) {
   const auto& p = w.particles;
@@ -76,7 +70,8 @@ std::vector<double> corner_loads_on_plane(const sable::World<3>& w, std::size_t 
 TEST(DemPolyhedra, CubeAtRestPutsAQuarterOfItsWeightOnEachCorner) {
   sable::World<3> w = soft_world(0.2, 0.5);
   add_plane(w, Vec::UnitZ());
-  sable::add_polyhedral_grain(w, box(Vec(-0.5, -0.5, 0) * kA, Vec(0.5, 0.5, 1) * kA), kRho, 0);
+  sable::add_polyhedral_grain(
+      w, sable::test::box_points(Vec(-0.5, -0.5, 0) * kA, Vec(0.5, 0.5, 1) * kA), kRho, 0);
   sable::DemSolver<3> s(w);
   s.initialize();
   for (int k = 0; k < 3000; ++k) s.step();  // 15 ms: 60 periods of the four springs
@@ -91,9 +86,10 @@ TEST(DemPolyhedra, CubeAtRestPutsAQuarterOfItsWeightOnEachCorner) {
 TEST(DemPolyhedra, CubeAtRestOnACube) {
   sable::World<3> w = soft_world(0.2, 0.5);
   w.gravity = Vec(0.0, 0.0, -kG);
-  sable::add_polyhedral_grain(w, box(Vec(-0.5, -0.5, -1) * kA, Vec(0.5, 0.5, 0) * kA), kRho, 0,
-                              true);
-  sable::add_polyhedral_grain(w, box(Vec(-0.5, -0.5, 0) * kA, Vec(0.5, 0.5, 1) * kA), kRho, 0);
+  sable::add_polyhedral_grain(
+      w, sable::test::box_points(Vec(-0.5, -0.5, -1) * kA, Vec(0.5, 0.5, 0) * kA), kRho, 0, true);
+  sable::add_polyhedral_grain(
+      w, sable::test::box_points(Vec(-0.5, -0.5, 0) * kA, Vec(0.5, 0.5, 1) * kA), kRho, 0);
   sable::DemSolver<3> s(w);
   s.initialize();
   for (int k = 0; k < 3000; ++k) s.step();
@@ -118,8 +114,9 @@ TEST(DemPolyhedra, FlatImpactKeepsTheRestitution) {
     w.gravity.setZero();
     w.model.attractive_damping = true;
     add_plane(w, Vec::UnitZ());
-    sable::add_polyhedral_grain(w, box(Vec(-0.5, -0.5, 0.001) * kA, Vec(0.5, 0.5, 1.001) * kA),
-                                kRho, 0);
+    sable::add_polyhedral_grain(
+        w, sable::test::box_points(Vec(-0.5, -0.5, 0.001) * kA, Vec(0.5, 0.5, 1.001) * kA), kRho,
+        0);
     w.particles.v[0] = Vec(0.0, 0.0, -0.1);
     sable::DemSolver<3> s(w);
     s.initialize();
@@ -140,7 +137,8 @@ TEST(DemPolyhedra, CubeOnInclineSticksOrSlides) {
     sable::World<3> w = soft_world(0.2, mu);
     add_plane(w, Vec(-std::sin(theta), 0.0, std::cos(theta)));
     const Quat q(Eigen::AngleAxisd(-theta, Vec::UnitY()));
-    sable::add_polyhedral_grain(w, box(Vec(-0.5, -0.5, 0) * kA, Vec(0.5, 0.5, 1) * kA, q), kRho, 0);
+    sable::add_polyhedral_grain(
+        w, sable::test::box_points(Vec(-0.5, -0.5, 0) * kA, Vec(0.5, 0.5, 1) * kA, q), kRho, 0);
     sable::DemSolver<3> s(w);
     s.initialize();
     for (int k = 0; k < 4000; ++k) s.step();
@@ -161,7 +159,7 @@ TEST(DemPolyhedra, CubeOnInclineSticksOrSlides) {
 TEST(DemPolyhedra, LoneBoxTurnsFreely) {
   sable::World<3> w = soft_world(0.5, 0.5);
   w.gravity.setZero();
-  sable::add_polyhedral_grain(w, box(Vec::Zero(), Vec(1, 2, 3) * kA), kRho, 0);
+  sable::add_polyhedral_grain(w, sable::test::box_points(Vec::Zero(), Vec(1, 2, 3) * kA), kRho, 0);
   const Vec inertia = sable::principal_inertia(w, 0);
   w.particles.omega[0] = Vec(0.5, 0.01, 30.0);
   Quat q = w.particles.q[0];
@@ -183,14 +181,8 @@ sable::World<3> heap(int nx, int nz, std::uint64_t seed) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const double r = 0.5 * kA, pitch = 2.0 * r + 0.01 * kA;
   for (int k = 0; k < nx * nx * nz; ++k) {
-    const int column = k % nx, row = k / nx % nx, layer = k / (nx * nx);
-    const Vec centre(pitch * (column - 0.5 * nx), pitch * (row - 0.5 * nx), r + pitch * layer);
-    std::vector<Vec> points;
-    for (int c = 0; c < 10; ++c) {
-      Vec d;
-      for (int i = 0; i < 3; ++i) d[i] = u(gen);
-      points.push_back(centre + r * d.normalized());
-    }
+    const std::vector<Vec> points = sable::test::ellipsoid_points(
+        sable::test::heap_site(k, nx, r, pitch), Vec::Constant(r), 10, [&] { return u(gen); });
     const auto id = sable::add_polyhedral_grain(w, points, kRho, 0);
     Vec v;
     for (int i = 0; i < 3; ++i) v[i] = u(gen);  // 1 m/s: they meet within a few hundred steps
@@ -235,7 +227,7 @@ TEST(DemPolyhedra, RestartAndThreadsGiveTheSameBits) {
 // What the law does not cover is refused, naming it: a Hertz law, a cylinder wall.
 TEST(DemPolyhedra, RefusesHertzAndCurvedWalls) {
   sable::World<3> w = soft_world(0.5, 0.5);
-  sable::add_polyhedral_grain(w, box(Vec::Zero(), Vec::Constant(kA)), kRho, 0);
+  sable::add_polyhedral_grain(w, sable::test::box_points(Vec::Zero(), Vec::Constant(kA)), kRho, 0);
   sable::World<3> hertz = w;
   hertz.model.normal = sable::NormalLaws::id<sable::HertzNormal>();
   EXPECT_THROW(sable::DemSolver<3>(hertz).initialize(), sable::InputError);

@@ -88,14 +88,7 @@ void CdSolver<3>::build_polyhedral_contacts() {
     slot_[np + k] = static_cast<std::size_t>(m.count);
     if (m.count == 0) wl.force[k].setZero();
   }
-  slot_.back() = 0;
-  std::size_t count = 0;  // exclusive prefix sum: the first contact of each entry
-  for (std::size_t& s : slot_) {
-    const std::size_t points = s;
-    s = count;
-    count += points;
-  }
-  c_.resize(count, false);
+  c_.resize(first_contacts(), false);  // slot_[k]: the first contact of entry k
 #pragma omp parallel for schedule(static) if (np >= kMinParallelItems)
   for (std::ptrdiff_t k = 0; k < np; ++k) {
     const PolyhedronContact& m = manifold_[k];

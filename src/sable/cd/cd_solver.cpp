@@ -503,14 +503,7 @@ void CdSolver<D>::build_contacts() {
     wl.force[k].setZero();
     if (rolling) wl.roll[k] = S::zero_rot();
   }
-  slot_.back() = 0;
-  std::size_t count = 0;  // exclusive prefix sum: slot_[k], the contact of entry k if it joins
-  for (std::size_t& s : slot_) {
-    const std::size_t joins = s;
-    s = count;
-    count += joins;
-  }
-  c_.resize(count, rolling);
+  c_.resize(first_contacts(), rolling);  // slot_[k]: the contact of entry k if it joins
 #pragma omp parallel for schedule(static) if (np >= kMinParallelItems)
   for (std::ptrdiff_t k = 0; k < np; ++k) {
     if (slot_[k + 1] == slot_[k]) continue;
@@ -533,6 +526,18 @@ void CdSolver<D>::build_contacts() {
                       world_.materials.pair(p.material[i], world_.walls[wl.wall[k]].material),
                       wl.force[k], rolling ? wl.roll[k] : S::zero_rot());
   }
+}
+
+template <int D>
+std::size_t CdSolver<D>::first_contacts() {
+  slot_.back() = 0;
+  std::size_t count = 0;
+  for (std::size_t& s : slot_) {
+    const std::size_t contacts = s;
+    s = count;
+    count += contacts;
+  }
+  return count;
 }
 
 // The bodies each contact updates: its grains unless fixed (walls take no update, but a wall

@@ -126,6 +126,9 @@ class CdSolver final : public Solver {
   void build_polyhedral_contacts();
   void check_polyhedral_world() const;
   AngularResponse angular_response();
+  // slot_ holds each list entry's number of contacts (and a 0 at its end): turned into each
+  // entry's first contact (an exclusive prefix sum); returns the total.
+  std::size_t first_contacts();
   void drift(double h);
   void build_colouring();
   template <bool kWall>
