@@ -18,6 +18,7 @@
 #include "sable/geometry/polyhedron_contact.hpp"
 #include "sable/geometry/polyhedron_plane.hpp"
 #include "sable/io/snapshot.hpp"
+#include "sable/world/critical_time.hpp"
 #include "sable/world/polyhedral_grains.hpp"
 #include "sable/world/state_hash.hpp"
 
@@ -222,6 +223,15 @@ TEST(DemPolyhedra, RestartAndThreadsGiveTheSameBits) {
   EXPECT_EQ(hash[0], hash[1]) << "one and two threads";
   EXPECT_EQ(hash[0], hash[2]) << "resumed";
   std::filesystem::remove(path);
+}
+
+// The time-step check's critical time: a face on a face is four springs in parallel, so the
+// estimate sqrt(m / 2k) takes k = 4 max(k_n, k_t) (exact: the same formula).
+TEST(DemPolyhedra, CriticalTimeCountsFourSpringsPerContact) {
+  sable::World<3> w = soft_world(0.5, 0.5);
+  sable::add_polyhedral_grain(w, sable::test::box_points(Vec::Zero(), Vec::Constant(kA)), kRho, 0);
+  EXPECT_DOUBLE_EQ(sable::critical_time(w),
+                   std::sqrt(0.5 * w.particles.mass[0] / (4.0 * std::max(kKn, 0.8 * kKn))));
 }
 
 // What the law does not cover is refused, naming it: a Hertz law, a cylinder wall.
