@@ -294,6 +294,7 @@ bool same(const Vec& a, const Vec& b) {
 struct PoseTally {
   std::array<int, 5> by_count{};  // poses with 1 to 4 vertices within the margin; 0: beyond it
   int reduced = 0, three = 0;     // more than 4 within it; reduced to 3 points
+  int touching = 0;               // reduced with 2 or 3 vertices at or below the plane
   double worst = 0.0;             // off q * v + x, relative to the scale
 };
 
@@ -351,6 +352,17 @@ void check_pose(const ConvexPolyhedron& a, const Vec& x, const Quat& q, const Ve
     return;
   }
   ++t.reduced;
+  // Touching vertices come first (manifold_reduction.hpp): with at most 3 of them, every one
+  // is kept.
+  std::vector<std::size_t> touching;
+  for (std::size_t k : within)
+    if (gap[k] <= 0.0) touching.push_back(k);
+  if (touching.size() >= 2 && touching.size() <= 3) {
+    ++t.touching;
+    for (std::size_t k : touching)
+      ASSERT_NE(std::find(kept.begin(), kept.end(), k), kept.end())
+          << at << ": touching vertex " << k << " left out";
+  }
   const auto deepest =
       static_cast<std::size_t>(std::min_element(gap.begin(), gap.end()) - gap.begin());
   ASSERT_NE(std::find(kept.begin(), kept.end(), deepest), kept.end()) << at;
@@ -374,7 +386,8 @@ void check_pose(const ConvexPolyhedron& a, const Vec& x, const Quat& q, const Ve
 //    along R^T n (bit for bit) when the manifold is built, else 0;
 //  - beyond the margin no point; within it, the vertices with gap <= margin: 4 or fewer all,
 //    in vertex order; more, 4 of them (or 3 where every other one lies in their triangle seen
-//    along n: the rule then has nothing to add), the deepest among them, in vertex order. Each
+//    along n: the rule then has nothing to add), the deepest among them, every vertex at or
+//    below the plane among them when there are 2 or 3 such, in vertex order. Each
 //    point is a vertex's R v + x and its gap bit for bit, and within 1e-14 of the scale of
 //    q * v + x.
 // The counts of each case are checked too, so that every case is exercised.
@@ -397,10 +410,10 @@ TEST(PolyhedronPlane, RandomPosesMatchTheVertexScan) {
     if (HasFatalFailure()) return;
   }
   const std::string counts = fmt::format(
-      "beyond the margin {}, 1 to 4 points {} {} {} {}, reduced {} (to 3 points: {}), worst "
-      "against q * v + x {:.3g} of the scale",
+      "beyond the margin {}, 1 to 4 points {} {} {} {}, reduced {} (to 3 points: {}; with 2 or "
+      "3 touching: {}), worst against q * v + x {:.3g} of the scale",
       t.by_count[0], t.by_count[1], t.by_count[2], t.by_count[3], t.by_count[4], t.reduced, t.three,
-      t.worst);
+      t.touching, t.worst);
   // Every case is there in numbers. The seeded draw: 4,948 poses beyond the margin; 1,087,
   // 992, 782 and 639 with 1 to 4 vertices within it; 1,552 with more, reduced (5 of them to 3
   // points); the worst point or separation 1.5e-16 of the scale off q * v + x.
@@ -408,6 +421,7 @@ TEST(PolyhedronPlane, RandomPosesMatchTheVertexScan) {
   for (int k = 1; k <= 4; ++k) EXPECT_GT(t.by_count[k], kPoses / 20) << counts;
   EXPECT_GT(t.reduced, kPoses / 10) << counts;
   EXPECT_GT(t.three, 0) << counts;
+  EXPECT_GT(t.touching, kPoses / 100) << counts;
 }
 
 // ---------------------------------------------------------------------------------------

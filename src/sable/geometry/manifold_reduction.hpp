@@ -11,12 +11,21 @@
 // deep each lies. Fewer come back when the rest add nothing: all the candidates at one point
 // give 1, on one line 2, inside the triangle 3.
 //
+// Points already touching (gap <= 0) come first: each of the three later choices is made among
+// the touching candidates when one of them adds something, and among all only otherwise. A
+// wide margin (contact dynamics takes the step's reach, up to a third of a grain's size) holds
+// corners that cannot touch within the step beside those that already do, and a rule blind to
+// the gaps would keep the far ones and leave a touching corner unconstrained, to sink on
+// (docs/contact-dynamics.md). So at most 3 touching points are all kept; with none touching
+// (or one), the rule is the plain one above.
+//
 // The candidates are read through callables, so that the caller keeps them where it has them
 // (a clipped polygon, a grain's vertices posed on the fly) and nothing is copied: point(k) and
 // gap(k) for k < count, member(k) saying which k are candidates at all (the rest are skipped
 // as if absent: the kept indices are those the rule keeps of the candidates alone). No
-// allocation; 4 passes over the k < count: the deepest (member() and gap() per k), then 3
-// calling member() and, for the candidates, point() once per k.
+// allocation; 4 to 7 passes over the k < count: the deepest (member() and gap() per k), then
+// for each later choice one over the touching candidates and, when none of them adds
+// anything, one over all, calling point() once per candidate k.
 //
 // Invariants: deterministic (the first of equals at each step, in index order); reads nothing
 // but the callables; the same floating-point operations whatever the callables, so that a
@@ -69,28 +78,30 @@ int reduce_to_four(std::size_t count, const Point& point, const Gap& gap, const 
   // Written as in the rule's first home (an Eigen expression, not a vector): the same
   // operations, so the pair's results kept their bits when the rule moved here.
   const auto flat = [&](const Vec& v) { return v - n.dot(v) * n; };  // in the plane
-  // Only candidates score; a score <= 0 is never chosen (best_of).
-  const auto among = [&member, &point](auto of) {
-    return [&member, &point, of](std::size_t k) { return member(k) ? of(point(k)) : 0.0; };
+  // Only candidates score (the touching ones first, see above); a score <= 0 is never chosen
+  // (best_of).
+  const auto pick = [&](auto of) {
+    const int touching = best_of(
+        count, [&](std::size_t k) { return member(k) && gap(k) <= 0.0 ? of(point(k)) : 0.0; });
+    if (touching >= 0) return touching;
+    return best_of(count, [&](std::size_t k) { return member(k) ? of(point(k)) : 0.0; });
   };
   keep[0] = i0;
   const Vec p0 = point(i0);
-  const int i1 = best_of(count, among([&](const Vec& x) { return flat(x - p0).squaredNorm(); }));
+  const int i1 = pick([&](const Vec& x) { return flat(x - p0).squaredNorm(); });
   if (i1 < 0) return 1;
   keep[1] = static_cast<std::size_t>(i1);
   const Vec p1 = point(keep[1]);
-  const int i2 =
-      best_of(count, among([&](const Vec& x) { return std::abs(twice_area(p0, p1, x, n)); }));
+  const int i2 = pick([&](const Vec& x) { return std::abs(twice_area(p0, p1, x, n)); });
   if (i2 < 0) return 2;
   keep[2] = static_cast<std::size_t>(i2);
   const Vec p2 = point(keep[2]);
   const double turn = twice_area(p0, p1, p2, n) > 0.0 ? 1.0 : -1.0;  // the triangle's winding
-  const int i3 =
-      best_of(count, among([&](const Vec& x) {
-                // Outside a side (q, r), x adds the triangle (q, r, x), wound against it.
-                return std::max({-turn * twice_area(p0, p1, x, n), -turn * twice_area(p1, p2, x, n),
-                                 -turn * twice_area(p2, p0, x, n)});
-              }));
+  const int i3 = pick([&](const Vec& x) {
+    // Outside a side (q, r), x adds the triangle (q, r, x), wound against it.
+    return std::max({-turn * twice_area(p0, p1, x, n), -turn * twice_area(p1, p2, x, n),
+                     -turn * twice_area(p2, p0, x, n)});
+  });
   if (i3 < 0) return 3;
   keep[3] = static_cast<std::size_t>(i3);
   return 4;
