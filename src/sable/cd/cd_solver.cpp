@@ -199,7 +199,7 @@ template <int D>
 void CdSolver<D>::initialize() {
   // The lists carry rolling couples exactly when the law has rolling resistance.
   world_.neighbors.rolling = world_.model.rolling != RollingModel::kNone;
-  if (!world_.shapes.empty()) check_polyhedral_world();
+  check_polyhedra_once();
   // The builds sort the grains into cell order when due (world/reorder.hpp), as in the DEM
   // solver. The contacts, and so the NLGS sweep, follow the list's order: a sort changes the
   // sweep's order, and with it the iterates, not the problem (the same contacts, impulses
@@ -220,7 +220,7 @@ void CdSolver<D>::step() {
   using S = Space<D>;
   const double h = world_.dt;
   auto& p = world_.particles;
-  if (!world_.shapes.empty()) check_polyhedral_world();  // also after a resume (no initialize())
+  check_polyhedra_once();  // a resumed run steps without initialize()
   {
     auto scope = timers_.time(Phase::kIntegrate);
     // Gravity is constant, so the theta weighting of smooth forces leaves h g.
@@ -304,8 +304,7 @@ void CdSolver<D>::drift(double h) {
     p.x[k] += h * p.v[k];
     if constexpr (D == 3) {
       if (p.polyhedron(k)) {
-        const PolyhedronShape& s = world_.shapes[p.shape_index[k]];
-        free_rotation(p.q[k], p.omega[k], s.inertia * (p.mass[k] / s.volume), h);
+        free_rotation(p.q[k], p.omega[k], world_.shapes[p.shape_index[k]].moments(p.mass[k]), h);
         continue;
       }
     }
@@ -327,8 +326,7 @@ typename CdSolver<D>::AngularResponse CdSolver<D>::angular_response() {
         inv_tensor_[k] = p.inv_inertia[k] * Eigen::Matrix3d::Identity();
         continue;
       }
-      const PolyhedronShape& s = world_.shapes[p.shape_index[k]];
-      const Eigen::Vector3d inv = (s.inertia * (p.mass[k] / s.volume)).cwiseInverse();
+      const Eigen::Vector3d inv = world_.shapes[p.shape_index[k]].moments(p.mass[k]).cwiseInverse();
       inv_tensor_[k] = world_inverse_inertia(p.q[k], inv);
     }
     r.tensor = inv_tensor_.data();

@@ -125,6 +125,13 @@ class CdSolver final : public Solver {
   // gives its manifold's points (up to 4), each point a contact.
   void build_polyhedral_contacts();
   void check_polyhedral_world() const;
+  // check_polyhedral_world() on the first call with polyhedra (initialize(), or a resumed
+  // run's first step): a World's grains and walls keep their kinds through a run.
+  void check_polyhedra_once() {
+    if (polyhedra_checked_ || world_.shapes.empty()) return;
+    check_polyhedral_world();
+    polyhedra_checked_ = true;
+  }
   AngularResponse angular_response();
   // slot_ holds each list entry's number of contacts (and a 0 at its end): turned into each
   // entry's first contact (an exclusive prefix sum); returns the total.
@@ -159,6 +166,7 @@ class CdSolver final : public Solver {
   std::vector<PolyhedronContact> manifold_;  // polyhedra: per list entry (pairs, then walls)
   std::vector<Eigen::Matrix3d> inv_tensor_;  // polyhedra: AngularResponse::tensor, per grain
   AngularResponse turn_;                     // this step's (angular_response())
+  bool polyhedra_checked_ = false;           // check_polyhedra_once() has passed
   int newton_iterations_ = 0;                // the fallback's steps in the last step (0: not used)
   GrainReorder<D> reorder_;
   WallTotals<D> wall_totals_;  // store_impulses()' exact sums

@@ -69,7 +69,7 @@ bool DemSolver<D, Laws>::polyhedral() {
 // forces: each thread writes only its own grains and contacts.
 template <int D, class Laws>
 void DemSolver<D, Laws>::step() {
-  if (polyhedral()) {  // checked at every step: a resumed run steps without initialize()
+  if (polyhedral()) {  // here too: a resumed run steps without initialize()
     diag_ = StepDiagnostics{};
     return polyhedra_->step();
   }

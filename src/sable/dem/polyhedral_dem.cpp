@@ -88,7 +88,7 @@ PolyhedralDem::EntryForce manifold_force(const PolyhedronContact& c, const Vec& 
 
 }  // namespace
 
-void PolyhedralDem::check_world() const {
+void PolyhedralDem::check_world() {
   const auto& p = w_.particles;
   for (std::size_t k = 0; k < p.size(); ++k) {
     if (!p.polyhedron(k))
@@ -112,6 +112,7 @@ void PolyhedralDem::check_world() const {
     throw InputError(
         "DEM with polyhedral grains: no rolling resistance (faces resist rolling) and no "
         "cohesion yet");
+  checked_ = true;
 }
 
 void PolyhedralDem::initialize() {
@@ -122,7 +123,7 @@ void PolyhedralDem::initialize() {
 }
 
 void PolyhedralDem::step() {
-  check_world();
+  if (!checked_) check_world();  // a resumed run steps without initialize()
   const double h = w_.dt;
   {
     auto scope = timers_.time(Phase::kIntegrate);
@@ -151,8 +152,7 @@ void PolyhedralDem::kick(double h) {
   const double keep = w_.viscous_rate > 0.0 ? 1.0 / (1.0 + w_.viscous_rate * h) : 1.0;
   for (std::size_t k = 0; k < p.size(); ++k) {
     if (p.inv_mass[k] == 0.0) continue;
-    const PolyhedronShape& s = w_.shapes[p.shape_index[k]];
-    const Vec inv = (s.inertia * (p.mass[k] / s.volume)).cwiseInverse();
+    const Vec inv = w_.shapes[p.shape_index[k]].moments(p.mass[k]).cwiseInverse();
     p.v[k] = keep * (p.v[k] + h * (p.inv_mass[k] * p.f[k] + w_.gravity));
     p.omega[k] = keep * (p.omega[k] + world_inverse_inertia(p.q[k], inv) * (h * p.t[k]));
   }
@@ -163,8 +163,7 @@ void PolyhedralDem::drift(double h) {
   for (std::size_t k = 0; k < p.size(); ++k) {
     if (p.inv_mass[k] == 0.0) continue;
     p.x[k] += h * p.v[k];
-    const PolyhedronShape& s = w_.shapes[p.shape_index[k]];
-    free_rotation(p.q[k], p.omega[k], s.inertia * (p.mass[k] / s.volume), h);
+    free_rotation(p.q[k], p.omega[k], w_.shapes[p.shape_index[k]].moments(p.mass[k]), h);
   }
 }
 

@@ -19,7 +19,7 @@
 // Limits: the normal law is the linear one (a Hertz law needs a curvature, which a polyhedron's
 // corners and edges do not have); walls are planes; no rolling resistance (faces resist
 // rolling), no cohesion; every grain a polyhedron; one process (no MPI). Each is refused with
-// a message at initialize() and at every step (a resumed run steps without initialize()).
+// a message at initialize(), or at the first step of a resumed run (which steps without it).
 //
 // The step is velocity Verlet for rigid bodies: half kick (v by the force, the angular
 // velocity by the world-frame inverse inertia times the torque), drift (x by v; the
@@ -57,7 +57,7 @@ class PolyhedralDem {
   };
 
  private:
-  void check_world() const;
+  void check_world();  // throws what the header lists; sets checked_
   void kick(double h);
   void drift(double h);
   void compute_forces();
@@ -71,6 +71,7 @@ class PolyhedralDem {
   GrainReorder<3> reorder_;
   WallTotals<3> wall_totals_;
   std::vector<EntryForce> pair_out_, wall_out_;
+  bool checked_ = false;  // check_world() has passed: a World keeps its kinds through a run
 };
 
 }  // namespace sable

@@ -27,6 +27,9 @@ struct PolyhedronShape {
   double volume = 0.0;     // m^3
   // The principal moments about the centroid per unit density (m^5), along the body's x, y, z.
   Eigen::Vector3d inertia = Eigen::Vector3d::Zero();
+
+  // A grain's principal moments (kg m^2, body axes): its density, mass / volume, times these.
+  Eigen::Vector3d moments(double mass) const { return inertia * (mass / volume); }
 };
 
 // Where a shape's body frame sits in the frame its points were given in:

@@ -27,8 +27,7 @@ ParticleId add_polyhedral_grain(World<3>& w, const std::vector<Eigen::Vector3d>&
 // Grain k's principal moments (kg m^2, body axes): its shape's per unit density times its
 // density (mass / volume).
 inline Eigen::Vector3d principal_inertia(const World<3>& w, std::size_t k) {
-  const PolyhedronShape& s = w.shapes[w.particles.shape_index[k]];
-  return s.inertia * (w.particles.mass[k] / s.volume);
+  return w.shapes[w.particles.shape_index[k]].moments(w.particles.mass[k]);
 }
 
 }  // namespace sable

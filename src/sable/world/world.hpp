@@ -90,8 +90,8 @@ ExactSum kinetic_energy_sum(const World<D>& w, bool translation_only = false) {
       if (translation_only) continue;
       if constexpr (D == 3) {
         if (p.polyhedron(k)) {
-          const PolyhedronShape& s = w.shapes[p.shape_index[k]];
-          run.add(rotational_energy(p.q[k], s.inertia * (p.mass[k] / s.volume), p.omega[k]));
+          run.add(
+              rotational_energy(p.q[k], w.shapes[p.shape_index[k]].moments(p.mass[k]), p.omega[k]));
           continue;
         }
       }
