@@ -319,9 +319,13 @@ struct Tally {
 // The manifold against the reference solids: 1 to 4 points when separation <= margin (none
 // beyond), each gap within the margin and no deeper than the chosen axis allows, each face
 // contact's point on the incident solid's surface with the gap its height over the reference
-// face's plane, an edge pair's gap the separation.
+// face's plane, an edge pair's gap the separation. And the deepest point is never left out:
+// when the incident solid's lowest vertex along the normal lies over the reference face
+// (its foot on the face's plane inside the reference solid, by more than tol), a point of the
+// manifold is as deep (the corner that would otherwise sink unconstrained; `deepest` counts
+// the pairs where this was checked).
 void check_manifold(const PolyhedronContact& c, const Solid& a, const Solid& b, double margin,
-                    double tol, double slack, int pair, Tally& bad) {
+                    double tol, double slack, int pair, Tally& bad, int& deepest) {
   if (c.separation > margin) {
     if (c.count != 0) bad.fail(pair, "points beyond the margin");
     return;
@@ -347,6 +351,22 @@ void check_manifold(const PolyhedronContact& c, const Solid& a, const Solid& b, 
     if (std::abs(height) > tol) bad.fail(pair, "point off the incident surface");
     if (std::abs(out.dot(x) - top - gap) > tol) bad.fail(pair, "gap is not the height");
   }
+  if (c.kind == Kind::kEdgeEdge) return;
+  std::size_t low = 0;
+  for (std::size_t k = 1; k < incident.v.size(); ++k)
+    if (out.dot(incident.v[k]) < out.dot(incident.v[low])) low = k;
+  const double depth = out.dot(incident.v[low]) - top;
+  const Vec foot = incident.v[low] - depth * out;
+  double inside = -kInf;  // the foot's height over the reference solid's surface
+  for (std::size_t t = 0; t < reference.tris.size(); ++t)
+    if (std::abs(reference.n[t].dot(out) - 1.0) > 1e-9)  // the face's own plane holds the foot
+      inside = std::max(inside, reference.n[t].dot(foot) - reference.h[t]);
+  if (!(inside < -tol)) return;
+  ++deepest;
+  double least = kInf;
+  for (int k = 0; k < c.count; ++k) least = std::min(least, c.points[k].gap);
+  if (std::abs(least - depth) > tol)
+    bad.fail(pair, fmt::format("deepest point {:.17g} left out (least gap {:.17g})", depth, least));
 }
 
 // ---------------------------------------------------------------------------------------
@@ -383,7 +403,7 @@ TEST(PolyhedronContact, RandomPairsMatchTheUnprunedAxes) {
   const int kPairs = 100000 / kShare;
   Tally sign{"apart or overlapping, not as the reference"}, depth{"penetration depth"},
       lower{"separation above the reference's"}, normal{"normal"}, manifold{"manifold"};
-  int overlapping = 0, apart = 0, touching = 0, strict = 0, edge_edge = 0;
+  int overlapping = 0, apart = 0, touching = 0, strict = 0, edge_edge = 0, deepest = 0;
   std::vector<std::pair<double, Vec>> all;
   for (int i = 0; i < kPairs; ++i) {
     Pair p = random_pair(shapes, gen);
@@ -426,7 +446,7 @@ TEST(PolyhedronContact, RandomPairsMatchTheUnprunedAxes) {
     }
     if (!(along >= s - slack - tol && along <= s + tol && std::abs(c.normal.norm() - 1) < 1e-12))
       normal.fail(i, fmt::format("its own separation {:.17g}, {}", along, got));
-    check_manifold(c, a, b, margin, tol, slack, i, manifold);
+    check_manifold(c, a, b, margin, tol, slack, i, manifold, deepest);
     edge_edge += c.kind == Kind::kEdgeEdge;
   }
   EXPECT_EQ(sign.count, 0);
@@ -442,6 +462,7 @@ TEST(PolyhedronContact, RandomPairsMatchTheUnprunedAxes) {
   EXPECT_GT(touching, kPairs / 50);
   EXPECT_GT(strict, overlapping / 2);
   EXPECT_GT(edge_edge, kPairs / 20);
+  EXPECT_GT(deepest, kPairs / 10);
 }
 
 // A few thousand random pairs (every 5th overlapping one moved to touch) against the exact

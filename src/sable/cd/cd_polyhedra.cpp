@@ -48,7 +48,8 @@ void CdSolver<3>::check_polyhedral_world() const {
 
 // As build_contacts(): the entries whose bounding spheres can close within the step get their
 // manifold (margin: how far the gap can close), each point a contact, in the lists' order on
-// any thread count.
+// any thread count. A manifold with more than 4 points within the margin keeps the 4 that
+// the grains' present motion brings closest within the step (ManifoldMotion).
 template <>
 void CdSolver<3>::build_polyhedral_contacts() {
   const auto& p = world_.particles;
@@ -70,7 +71,8 @@ void CdSolver<3>::build_polyhedral_contacts() {
     PolyhedronContact& m = manifold_[k];
     m.count = 0;
     if (!((p.x[i] - p.x[j]).norm() - p.radius[i] - p.radius[j] > margin))
-      m = polyhedron_contact(solid(i), p.x[i], p.q[i], solid(j), p.x[j], p.q[j], margin);
+      m = polyhedron_contact(solid(i), p.x[i], p.q[i], solid(j), p.x[j], p.q[j], margin,
+                             {p.v[i], p.omega[i], p.x[i], p.v[j], p.omega[j], p.x[j], world_.dt});
     slot_[k] = static_cast<std::size_t>(m.count);
     if (m.count == 0) pl.force[k].setZero();
   }
@@ -83,8 +85,9 @@ void CdSolver<3>::build_polyhedral_contacts() {
     PolyhedronContact& m = manifold_[np + k];
     m.count = 0;
     if (!(wall.normal().dot(p.x[i] - wall.point) - p.radius[i] > wall_margin))
-      m = polyhedron_plane_contact(solid(i), p.x[i], p.q[i], wall.point, wall.normal(),
-                                   wall_margin);
+      m = polyhedron_plane_contact(
+          solid(i), p.x[i], p.q[i], wall.point, wall.normal(), wall_margin,
+          {p.v[i], p.omega[i], p.x[i], wall.velocity, wall.spin, wall.pivot, world_.dt});
     slot_[np + k] = static_cast<std::size_t>(m.count);
     if (m.count == 0) wl.force[k].setZero();
   }

@@ -21,11 +21,13 @@
 //
 // The candidates are read through callables, so that the caller keeps them where it has them
 // (a clipped polygon, a grain's vertices posed on the fly) and nothing is copied: point(k) and
-// gap(k) for k < count, member(k) saying which k are candidates at all (the rest are skipped
-// as if absent: the kept indices are those the rule keeps of the candidates alone). No
-// allocation; 4 to 7 passes over the k < count: the deepest (member() and gap() per k), then
-// for each later choice one over the touching candidates and, when none of them adds
-// anything, one over all, calling point() once per candidate k.
+// gap(k) for k < count (the gap that ranks them: the present one, or the one predicted at the
+// end of the step when the caller gives the motion, ManifoldMotion in polyhedron_contact.hpp,
+// so that "touching" reads "touching by the step's end"), member(k) saying which k are candidates
+// at all (the rest are skipped as if absent: the kept indices are those the rule keeps of the
+// candidates alone). No allocation; 4 to 7 passes over the k < count: the deepest (member() and
+// gap() per k), then for each later choice one over the touching candidates and, when none of them
+// adds anything, one over all, calling point() once per candidate k.
 //
 // Invariants: deterministic (the first of equals at each step, in index order); reads nothing
 // but the callables; the same floating-point operations whatever the callables, so that a

@@ -28,6 +28,14 @@ struct Relative {
   Vec at(const Vec& x_b) const { return R * x_b + t; }
 };
 
+// A's pose in the world and the bodies' motion: what the manifold's ranking needs to predict
+// the points' gaps (clipping works in A's frame).
+struct Posed {
+  const Mat& R;
+  const Vec& x;
+  const ManifoldMotion& motion;
+};
+
 struct FaceQuery {
   double separation = -kInf;
   std::uint32_t face = 0;
@@ -143,19 +151,41 @@ void clip(const Polygon<kClip>& in, const Vec& s, double o, Polygon<kClip>& out)
   }
 }
 
-// At most 4 of `count` points (positions x, gaps g), by the rule of the header
-// (geometry/manifold_reduction.hpp, shared with the plane's manifold): all of 4 or fewer; else
-// the deepest, the farthest from it, the largest triangle, the most area added outside one
-// side of it. Returns how many, their indices in `keep`.
-int reduce(const Polygon<kClip>& x, const std::array<double, kClip>& g, const Vec& n,
+// At most 4 of `count` points (positions x, ranked by `rank`: their gaps, or those predicted
+// after the step), by the rule of the header (geometry/manifold_reduction.hpp, shared with the
+// plane's manifold): all of 4 or fewer; else the deepest, the farthest from it, the largest
+// triangle, the most area added outside one side of it. Returns how many, their indices in
+// `keep`.
+int reduce(const Polygon<kClip>& x, const Vec& n, const std::array<double, kClip>& rank,
            std::array<std::size_t, 4>& keep) {
   if (x.n <= 4) {
     for (std::size_t k = 0; k < x.n; ++k) keep[k] = k;
     return static_cast<int>(x.n);
   }
   return detail::reduce_to_four(
-      x.n, [&](std::size_t k) -> const Vec& { return x.p[k]; }, [&](std::size_t k) { return g[k]; },
-      [](std::size_t) { return true; }, n, keep);
+      x.n, [&](std::size_t k) -> const Vec& { return x.p[k]; },
+      [&](std::size_t k) { return rank[k]; }, [](std::size_t) { return true; }, n, keep);
+}
+
+// The incident face for a reference normal m (in the incident shape's frame, pointing out of
+// the reference shape): among the faces round the incident shape's lowest vertex along m (its
+// deepest point), the one whose normal is lowest along m. The face most anti-parallel to m
+// over the whole shape need not hold that vertex (a sharp corner poking into the reference
+// face, with a wide face elsewhere nearly facing it), and clipping such a face would leave
+// the deepest point out of the manifold: the corner would sink unconstrained.
+std::uint32_t incident_face(const ConvexPolyhedron& s, const Vec& m) {
+  const std::uint32_t deepest = lowest(s.vertices(), m).first;
+  std::uint32_t best = 0;
+  double best_height = std::numeric_limits<double>::infinity();
+  for (std::size_t f = 0; f < s.face_count(); ++f) {
+    const auto corners = s.face(f);
+    if (std::find(corners.begin(), corners.end(), deepest) == corners.end()) continue;
+    if (const double h = s.normals()[f].dot(m); h < best_height) {
+      best_height = h;
+      best = static_cast<std::uint32_t>(f);
+    }
+  }
+  return best;
 }
 
 // The incident face clipped by the side planes of the reference face (`ref`, its corners
@@ -163,7 +193,7 @@ int reduce(const Polygon<kClip>& x, const std::array<double, kClip>& g, const Ve
 // n . x = h, at most 4 of them, into c (A's frame). `poly` holds the incident face on entry;
 // `spare` is the other buffer of the ping-pong.
 void clip_and_keep(const Polygon<ConvexPolyhedron::kMaxFaceCorners>& ref, const Vec& n, double h,
-                   double margin, Polygon<kClip>& poly, Polygon<kClip>& spare,
+                   double margin, const Posed& posed, Polygon<kClip>& poly, Polygon<kClip>& spare,
                    PolyhedronContact& c) {
   Polygon<kClip>* in = &poly;
   Polygon<kClip>* out = &spare;
@@ -181,22 +211,29 @@ void clip_and_keep(const Polygon<ConvexPolyhedron::kMaxFaceCorners>& ref, const 
       gap[kept++] = g;
     }
   in->n = kept;
+  // The reduction's ranking: the gaps after the step when the caller gave the motion.
+  std::array<double, kClip> rank = gap;
+  if (kept > 4 && posed.motion.h != 0.0) {
+    const Vec n_world = posed.R * n;
+    for (std::size_t k = 0; k < kept; ++k)
+      rank[k] = posed.motion.predicted(posed.R * in->p[k] + posed.x, n_world, gap[k]);
+  }
   std::array<std::size_t, 4> keep{};
-  c.count = reduce(*in, gap, n, keep);
+  c.count = reduce(*in, n, rank, keep);
   for (int k = 0; k < c.count; ++k) c.points[k] = {in->p[keep[k]], gap[keep[k]]};
 }
 
-// Reference face of A, incident face of B (the one whose normal is lowest along A's).
+// Reference face of A, incident face of B (incident_face()).
 void face_a_manifold(const ConvexPolyhedron& a, const ConvexPolyhedron& b, const Relative& rel,
-                     const FaceQuery& fa, double margin, PolyhedronContact& c) {
+                     const FaceQuery& fa, double margin, const Posed& posed, PolyhedronContact& c) {
   const Vec& n = a.normals()[fa.face];
   const Vec m = rel.R.transpose() * n;  // n in B's frame
-  c.feature_b = lowest(b.normals(), m).first;
+  c.feature_b = incident_face(b, m);
   Polygon<ConvexPolyhedron::kMaxFaceCorners> ref;
   for (std::uint32_t v : a.face(fa.face)) ref.push(a.vertices()[v]);
   Polygon<kClip> poly, spare;
   for (std::uint32_t v : b.face(c.feature_b)) poly.push(rel.at(b.vertices()[v]));
-  clip_and_keep(ref, n, a.offsets()[fa.face], margin, poly, spare, c);
+  clip_and_keep(ref, n, a.offsets()[fa.face], margin, posed, poly, spare, c);
   if (c.count == 0) {
     const std::uint32_t k = lowest(b.vertices(), m).first;
     c.points[0] = {rel.at(b.vertices()[k]), fa.separation};
@@ -206,15 +243,15 @@ void face_a_manifold(const ConvexPolyhedron& a, const ConvexPolyhedron& b, const
 
 // Reference face of B (its plane in A's frame), incident face of A.
 void face_b_manifold(const ConvexPolyhedron& a, const ConvexPolyhedron& b, const Relative& rel,
-                     const FaceQuery& fb, double margin, PolyhedronContact& c) {
+                     const FaceQuery& fb, double margin, const Posed& posed, PolyhedronContact& c) {
   const Vec n = rel.R * b.normals()[fb.face];
   const double h = b.offsets()[fb.face] + n.dot(rel.t);
-  c.feature_a = lowest(a.normals(), n).first;
+  c.feature_a = incident_face(a, n);
   Polygon<ConvexPolyhedron::kMaxFaceCorners> ref;
   for (std::uint32_t v : b.face(fb.face)) ref.push(rel.at(b.vertices()[v]));
   Polygon<kClip> poly, spare;
   for (std::uint32_t v : a.face(c.feature_a)) poly.push(a.vertices()[v]);
-  clip_and_keep(ref, n, h, margin, poly, spare, c);
+  clip_and_keep(ref, n, h, margin, posed, poly, spare, c);
   if (c.count == 0) {
     const std::uint32_t k = lowest(a.vertices(), n).first;
     c.points[0] = {a.vertices()[k], fb.separation};
@@ -256,7 +293,8 @@ void edge_manifold(const ConvexPolyhedron& a, const ConvexPolyhedron& b, const R
 PolyhedronContact polyhedron_contact(const ConvexPolyhedron& a, const Eigen::Vector3d& position_a,
                                      const Eigen::Quaterniond& orientation_a,
                                      const ConvexPolyhedron& b, const Eigen::Vector3d& position_b,
-                                     const Eigen::Quaterniond& orientation_b, double margin) {
+                                     const Eigen::Quaterniond& orientation_b, double margin,
+                                     const ManifoldMotion& motion) {
   if (!(margin >= 0.0) || !std::isfinite(margin))
     throw InputError(fmt::format("polyhedron contact: margin {}, expected >= 0", margin));
   const Mat ra = orientation_a.toRotationMatrix();
@@ -303,10 +341,10 @@ PolyhedronContact polyhedron_contact(const ConvexPolyhedron& a, const Eigen::Vec
   if (c.separation > margin) return c;
   switch (c.kind) {
     case Kind::kFaceA:
-      face_a_manifold(a, b, rel, fa, margin, c);
+      face_a_manifold(a, b, rel, fa, margin, {ra, position_a, motion}, c);
       break;
     case Kind::kFaceB:
-      face_b_manifold(a, b, rel, fb, margin, c);
+      face_b_manifold(a, b, rel, fb, margin, {ra, position_a, motion}, c);
       break;
     case Kind::kEdgeEdge:
       edge_manifold(a, b, rel, e, c);

@@ -33,8 +33,10 @@
 // up to that tolerance below it, and the manifold's gaps are measured along the chosen normal.
 //
 // The manifold, when separation <= margin:
-//  - face axis: the reference face is the chosen face, the incident face the other shape's
-//    face most anti-parallel to it; the incident face is clipped against the side planes of
+//  - face axis: the reference face is the chosen face, the incident face, among the
+//    other shape's faces round its deepest corner along the normal, the most anti-parallel to
+//    it (a face most anti-parallel over the whole shape may not hold that corner, which would
+//    then sink unconstrained); the incident face is clipped against the side planes of
 //    the reference face (Sutherland-Hodgman), and the clipped points within `margin` of the
 //    reference plane are kept, each with its gap (its signed distance from the reference
 //    plane, along the normal). The points lie on the incident face. Over 4 points, 4 are
@@ -96,10 +98,34 @@ struct PolyhedronContact {
   std::array<PolyhedronContactPoint, kMaxPoints> points{};
 };
 
+// How the two bodies move over the coming step of length h (rigid velocity fields
+// u_a(x) = v_a + w_a x (x - x_a), u_b likewise), for a caller whose margin holds more than 4
+// points: a point's gap after the step is, to first order, gap + h n . (u_b(x) - u_a(x)) (n
+// from A to B), and the 4-point reduction ranks the points by that predicted gap instead of
+// the present one, so the points kept are those that will touch first. Contact dynamics
+// needs it: its margin is the step's reach, a grain turning fast brings a far corner down
+// within the step, and a rule that ranked by the present gaps dropped that corner, which then
+// sank unconstrained (docs/contact-dynamics.md). The kept points' gaps are their present ones.
+// h = 0 (the default): the present gaps rank them.
+struct ManifoldMotion {
+  Eigen::Vector3d v_a = Eigen::Vector3d::Zero(), w_a = Eigen::Vector3d::Zero(),
+                  x_a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_b = Eigen::Vector3d::Zero(), w_b = Eigen::Vector3d::Zero(),
+                  x_b = Eigen::Vector3d::Zero();
+  double h = 0.0;
+  // The gap at world point x, normal n (world, from A to B), after the step.
+  double predicted(const Eigen::Vector3d& x, const Eigen::Vector3d& n, double gap) const {
+    if (h == 0.0) return gap;
+    const Eigen::Vector3d u = v_b + w_b.cross(x - x_b) - v_a - w_a.cross(x - x_a);
+    return gap + h * n.dot(u);
+  }
+};
+
 // Throws InputError when margin is negative or not finite. The quaternions must be unit.
 PolyhedronContact polyhedron_contact(const ConvexPolyhedron& a, const Eigen::Vector3d& position_a,
                                      const Eigen::Quaterniond& orientation_a,
                                      const ConvexPolyhedron& b, const Eigen::Vector3d& position_b,
-                                     const Eigen::Quaterniond& orientation_b, double margin = 0.0);
+                                     const Eigen::Quaterniond& orientation_b, double margin = 0.0,
+                                     const ManifoldMotion& motion = {});
 
 }  // namespace sable

@@ -41,11 +41,13 @@ std::uint32_t lowest_face(const ConvexPolyhedron& a, const Vec& m) {
 }
 
 // Over 4 vertices within the margin: the 4 of the shared rule, in the order of the vertices.
-void reduce_posed(const Posed& w, double margin, PolyhedronContact& c) {
+void reduce_posed(const Posed& w, double margin, const ManifoldMotion& motion,
+                  PolyhedronContact& c) {
   std::array<std::size_t, 4> keep{};
   const std::size_t count = w.v.size();
   c.count = detail::reduce_to_four(
-      count, [&](std::size_t k) { return w.at(k); }, [&](std::size_t k) { return w.gap(k); },
+      count, [&](std::size_t k) { return w.at(k); },
+      [&](std::size_t k) { return motion.predicted(w.at(k), c.normal, w.gap(k)); },
       [&](std::size_t k) { return w.gap(k) <= margin; }, w.n, keep);
   // The whole array, the unused places last (sorting a prefix of c.count trips GCC 12's bounds
   // warning, which cannot see that the rule keeps at most 4).
@@ -60,7 +62,8 @@ PolyhedronContact polyhedron_plane_contact(const ConvexPolyhedron& a,
                                            const Eigen::Vector3d& position,
                                            const Eigen::Quaterniond& orientation,
                                            const Eigen::Vector3d& plane_point,
-                                           const Eigen::Vector3d& plane_normal, double margin) {
+                                           const Eigen::Vector3d& plane_normal, double margin,
+                                           const ManifoldMotion& motion) {
   if (!(margin >= 0.0) || !std::isfinite(margin))
     throw InputError(fmt::format("polyhedron-plane contact: margin {}, expected >= 0", margin));
   if (const double len = plane_normal.norm(); !(std::abs(len - 1.0) <= kPlaneNormalTolerance))
@@ -90,7 +93,7 @@ PolyhedronContact polyhedron_plane_contact(const ConvexPolyhedron& a,
   if (within <= PolyhedronContact::kMaxPoints)
     c.count = static_cast<int>(within);
   else
-    reduce_posed(w, margin, c);
+    reduce_posed(w, margin, motion, c);
   return c;
 }
 

@@ -52,7 +52,7 @@ PolyhedronContact polyhedron_plane_contact(const ConvexPolyhedron& a,
                                            const Eigen::Vector3d& position,
                                            const Eigen::Quaterniond& orientation,
                                            const Eigen::Vector3d& plane_point,
-                                           const Eigen::Vector3d& plane_normal,
-                                           double margin = 0.0);
+                                           const Eigen::Vector3d& plane_normal, double margin = 0.0,
+                                           const ManifoldMotion& motion = {});
 
 }  // namespace sable
