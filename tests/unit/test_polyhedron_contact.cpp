@@ -307,6 +307,41 @@ TEST(PolyhedronContact, CrossedEdges) {
   EXPECT_NEAR(c.points[0].gap, -deep, 1e-12);
 }
 
+// Look-ahead points (ManifoldMotion): a cube balanced on a corner over a slab, its corner
+// touching, margin 1.2 (side 2: the corner's three neighbours 2 / sqrt(3) = 1.155 up, within
+// it). The manifold is the incident face round the corner, clipped: the corner and the two
+// neighbours on that face. Falling at 2 per unit time over h = 1, the third neighbour (on no
+// incident face) would cross the slab within the step: it becomes a look-ahead point with
+// the slab's normal and its present gap 2 / sqrt(3) (1e-12: a few roundings of order-1
+// values). Without the motion there is none.
+TEST(PolyhedronContact, LookAheadAddsTheCornerAFallBringsDown) {
+  const ConvexPolyhedron slab = box(Vec(-5, -5, -1), Vec(5, 5, 0));
+  const ConvexPolyhedron cube = box(Vec(-1, -1, -1), Vec(1, 1, 1));
+  const Quat q = Quat::FromTwoVectors(Vec(-1, -1, -1).normalized(), Vec(0, 0, -1));
+  const Vec at(0.2, -0.1, std::sqrt(3.0));
+  const PolyhedronContact still = polyhedron_contact(slab, Vec::Zero(), kI, cube, at, q, 1.2);
+  ASSERT_EQ(still.kind, Kind::kFaceA);
+  ASSERT_EQ(still.count, 3);
+  EXPECT_EQ(still.ahead, 0);
+  ManifoldMotion fall;
+  fall.v_b = Vec(0, 0, -2);
+  fall.x_b = at;
+  fall.h = 1.0;
+  const PolyhedronContact c = polyhedron_contact(slab, Vec::Zero(), kI, cube, at, q, 1.2, fall);
+  ASSERT_EQ(c.count, 3);
+  ASSERT_EQ(c.ahead, 1);
+  for (int t = 0; t < 3; ++t)
+    EXPECT_NEAR((c.points[t].position - still.points[t].position).norm(), 0.0, 1e-12);
+  const PolyhedronContactPoint& p = c.points[3];
+  EXPECT_NEAR(p.gap, 2.0 / std::sqrt(3.0), 1e-12);
+  EXPECT_NEAR(p.position.z(), p.gap, 1e-12);
+  EXPECT_NEAR((c.normal_of(3) - Vec::UnitZ()).norm(), 0.0, 1e-12);
+  int corners = 0;  // it is a corner of the cube, and none of the manifold's
+  for (const Vec& v : cube.vertices()) corners += ((q * v + at) - p.position).norm() <= 1e-12;
+  EXPECT_EQ(corners, 1);
+  for (int t = 0; t < 3; ++t) EXPECT_GT((c.points[t].position - p.position).norm(), 1.0);
+}
+
 // Counts failures of one kind; reports the first few in full.
 struct Tally {
   const char* what;

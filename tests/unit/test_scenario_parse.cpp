@@ -702,6 +702,19 @@ TEST(ScenarioParse, RollingFrictionNeedsTheRollingModel) {
                       {"material_pair[0].rolling_friction", ">= 0"}));
 }
 
+// Guards: cd.overlap_recovery is a share of an overlap, in [0, 1] (both ends allowed).
+TEST(ScenarioParse, OverlapRecoveryIsAShare) {
+  const std::string cd = edit("seed = 7", "seed = 7\nsolver = \"cd\"");
+  for (const char* bad : {"1.5", "-0.1"}) {
+    const std::string text = cd + "[cd]\noverlap_recovery = " + bad + "\n";
+    EXPECT_TRUE(FailsAt(text, line_of(text, "overlap_recovery"),
+                        {std::string("cd.overlap_recovery = ") + bad, "a number in [0, 1]"}));
+  }
+  for (const char* ok : {"0", "1", "0.2"})
+    EXPECT_NO_THROW(parse_scenario(cd + "[cd]\noverlap_recovery = " + ok + "\n", kPath)) << ok;
+  EXPECT_EQ(parse_scenario(cd + "[cd]\noverlap_recovery = 0.2\n", kPath).cd.overlap_recovery, 0.2);
+}
+
 // Guards: rolling_damping only with rolling = "epsd", and within [0, 1] (a fraction of
 // critical damping); the sub-model's name is one of the registry's.
 TEST(ScenarioParse, RollingDampingAndChoice) {

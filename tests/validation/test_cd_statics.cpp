@@ -207,6 +207,28 @@ TEST(CdStatics, SphereRestsOnPlaneWithoutDrift) {
   EXPECT_LT((w.particles.x[0] - x0).norm(), 1e-12 * r);
 }
 
+// An overlap is kept (overlap_recovery = 0, the default) or a share beta of it removed in a
+// step (CdSettings::overlap_recovery): a sphere at rest overlapping a plane by g0, no gravity,
+// must leave the step with U_N + beta g0 / h = 0 (its normal unknown at zero, the impulse
+// positive), so it separates at beta g0 / h and moves out by beta g0: overlap (1 - beta) g0.
+// Exact for a rigid sphere: 1e-12 relative (a few roundings).
+TEST(CdStatics, OverlapRecoveryRemovesItsShare) {
+  const double r = 1e-3, g0 = 1e-5, h = 1e-4;
+  for (const double beta : {0.0, 0.25}) {
+    auto w = rigid_world<3>(0.5, h);
+    w.particles.add({0.0, 0.0, r - g0}, r, 2500.0, 0, 1.0);
+    add_plane<3>(w, {0, 0, 0}, {0, 0, 1});
+    sable::CdSettings cs = tight();
+    cs.overlap_recovery = beta;
+    sable::CdSolver<3> s(w, cs);
+    s.initialize();
+    s.step();
+    EXPECT_NEAR(w.particles.x[0].z(), r - (1.0 - beta) * g0, 1e-12 * r) << beta;
+    EXPECT_NEAR(w.particles.v[0].z(), beta * g0 / h, 1e-12 * std::max(beta * g0 / h, 1e-6)) << beta;
+    EXPECT_NEAR(w.particles.v[0].x(), 0.0, 1e-15);
+  }
+}
+
 // A sphere dropped from 5 mm onto a plane stops there: no bounce (Moreau's impact law with
 // zero restitution) and no penetration (the gap closes exactly within the step).
 TEST(CdStatics, PerfectlyInelasticImpact) {

@@ -73,8 +73,8 @@ void CdSolver<3>::build_polyhedral_contacts() {
     if (!((p.x[i] - p.x[j]).norm() - p.radius[i] - p.radius[j] > margin))
       m = polyhedron_contact(solid(i), p.x[i], p.q[i], solid(j), p.x[j], p.q[j], margin,
                              {p.v[i], p.omega[i], p.x[i], p.v[j], p.omega[j], p.x[j], world_.dt});
-    slot_[k] = static_cast<std::size_t>(m.count);
-    if (m.count == 0) pl.force[k].setZero();
+    slot_[k] = static_cast<std::size_t>(m.total());
+    if (m.total() == 0) pl.force[k].setZero();
   }
 #pragma omp parallel for schedule(static) if (nw >= kMinParallelItems)
   for (std::ptrdiff_t k = 0; k < nw; ++k) {
@@ -88,8 +88,8 @@ void CdSolver<3>::build_polyhedral_contacts() {
       m = polyhedron_plane_contact(
           solid(i), p.x[i], p.q[i], wall.point, wall.normal(), wall_margin,
           {p.v[i], p.omega[i], p.x[i], wall.velocity, wall.spin, wall.pivot, world_.dt});
-    slot_[np + k] = static_cast<std::size_t>(m.count);
-    if (m.count == 0) wl.force[k].setZero();
+    slot_[np + k] = static_cast<std::size_t>(m.total());
+    if (m.total() == 0) wl.force[k].setZero();
   }
   c_.resize(first_contacts(), false);  // slot_[k]: the first contact of entry k
 #pragma omp parallel for schedule(static) if (np >= kMinParallelItems)
@@ -97,10 +97,10 @@ void CdSolver<3>::build_polyhedral_contacts() {
     const PolyhedronContact& m = manifold_[k];
     const std::uint32_t i = pl.i[k], j = pl.j[k];
     const PairParams pp = world_.materials.pair(p.material[i], p.material[j]);
-    const Vec share = pl.force[k] / std::max(m.count, 1);
-    for (int t = 0; t < m.count; ++t) {
+    const Vec share = pl.force[k] / std::max(m.total(), 1);
+    for (int t = 0; t < m.total(); ++t) {
       const Vec& x = m.points[t].position;  // the normal n runs from j to i, as for spheres
-      set_contact<false>(slot_[k] + t, i, j, static_cast<std::uint32_t>(k), -m.normal,
+      set_contact<false>(slot_[k] + t, i, j, static_cast<std::uint32_t>(k), -m.normal_of(t),
                          m.points[t].gap, x - p.x[i], x - p.x[j], pp, share, Rot::Zero());
     }
   }
@@ -109,11 +109,11 @@ void CdSolver<3>::build_polyhedral_contacts() {
     const PolyhedronContact& m = manifold_[np + k];
     const std::uint32_t i = wl.i[k];
     const PairParams pp = world_.materials.pair(p.material[i], world_.walls[wl.wall[k]].material);
-    const Vec share = wl.force[k] / std::max(m.count, 1);
-    for (int t = 0; t < m.count; ++t)
-      set_contact<true>(slot_[np + k] + t, i, wl.wall[k], static_cast<std::uint32_t>(k), -m.normal,
-                        m.points[t].gap, m.points[t].position - p.x[i], Vec::Zero(), pp, share,
-                        Rot::Zero());
+    const Vec share = wl.force[k] / std::max(m.total(), 1);
+    for (int t = 0; t < m.total(); ++t)
+      set_contact<true>(slot_[np + k] + t, i, wl.wall[k], static_cast<std::uint32_t>(k),
+                        -m.normal_of(t), m.points[t].gap, m.points[t].position - p.x[i],
+                        Vec::Zero(), pp, share, Rot::Zero());
   }
 }
 

@@ -20,12 +20,13 @@ template <int D>
 class CdSolver<D>::Problem {
  public:
   Problem(Contacts& c, ParticleStore<D>& p, std::vector<Wall<D>>& walls, std::vector<WallDof>& dofs,
-          double h, const cd::SweepColouring& colouring, AngularResponse turn)
+          double h, double recovery, const cd::SweepColouring& colouring, AngularResponse turn)
       : c_(c),
         p_(p),
         walls_(walls),
         dofs_(dofs),
         inv_h_(1.0 / h),
+        recovery_(recovery),
         colouring_(colouring),
         turn_(turn) {}
   const cd::SweepColouring& colouring() const { return colouring_; }
@@ -48,7 +49,10 @@ class CdSolver<D>::Problem {
       vrel -= p_.v[j] + S::spin_velocity(p_.omega[j], c_.arm_j[a]);
     }
     LVec u = c_.frame[a].transpose() * vrel;
-    u[0] += std::max(c_.gap[a], 0.0) * inv_h_;
+    // An open gap may close; a share of an overlap is removed (CdSettings::overlap_recovery;
+    // with none, the same bits as max(gap, 0) / h).
+    const double g = c_.gap[a];
+    u[0] += (g >= 0.0 ? g : recovery_ > 0.0 ? recovery_ * g : 0.0) * inv_h_;
     return u;
   }
 
@@ -150,6 +154,7 @@ class CdSolver<D>::Problem {
   std::vector<Wall<D>>& walls_;
   std::vector<WallDof>& dofs_;
   double inv_h_;
+  double recovery_;
   const cd::SweepColouring& colouring_;
   AngularResponse turn_;
   double q_norm_ = 0.0;
@@ -242,7 +247,7 @@ void CdSolver<D>::step() {
   }
   {
     auto scope = timers_.time(Phase::kNlgsSolve);
-    Problem problem(c_, p, world_.walls, dofs_, h, colouring_, turn_);
+    Problem problem(c_, p, world_.walls, dofs_, h, s_.overlap_recovery, colouring_, turn_);
     double q2 = 0.0;
     q_.resize(c_.size());
     for (std::size_t a = 0; a < c_.size(); ++a) {

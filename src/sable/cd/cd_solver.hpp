@@ -48,6 +48,14 @@ struct CdSettings {
   std::size_t colour_block = 256;
   int newton_iterations = 0;
   bool warm_start = true;
+  // The share beta of an overlap that a step removes (0: none). The normal unknown is
+  // U_N + g / h for an open gap g (it may close within the step, never cross) and
+  // U_N + beta g / h for an overlap (g < 0): a contact that overlaps by |g| separates at up to
+  // beta |g| / h, which is the energy it injects. With beta = 0 an overlap made by a step's
+  // first-order error (a corner's arc, an edge sliding over an edge) stays for good and the
+  // errors of a long compaction add up; a share of them removed each step bounds the overlap
+  // near (error per step) / beta (docs/contact-dynamics.md).
+  double overlap_recovery = 0.0;
 };
 
 template <int D>

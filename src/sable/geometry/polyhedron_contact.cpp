@@ -288,6 +288,94 @@ void edge_manifold(const ConvexPolyhedron& a, const ConvexPolyhedron& b, const R
   c.count = 1;
 }
 
+// The look-ahead points (ManifoldMotion in the header), gathered in A's frame: the closing
+// vertices over one reference face, kept soonest-closing first in a fixed array.
+class LookAhead {
+ public:
+  LookAhead(const Posed& posed, const PolyhedronContact& c, double margin, double scale)
+      : posed_(posed), c_(c), margin_(margin), same_(1e-9 * scale) {}
+
+  // The vertices `v` (A's frame) over the face with corners `corners` (A's frame,
+  // counterclockwise about n), n its outward normal, h its plane's offset; the contact's
+  // normal from A to B is `towards_b` (n for a face of A, -n for a face of B).
+  template <typename Vertices, typename Corners>
+  void scan(const Vertices& v, std::size_t nv, const Corners& corners, std::size_t nc, const Vec& n,
+            double h, const Vec& towards_b) {
+    const Vec n_world = posed_.R * towards_b;
+    for (std::size_t k = 0; k < nv; ++k) {
+      const Vec y = v(k);
+      const double gap = n.dot(y) - h;
+      if (!(gap >= 0.0 && gap <= margin_)) continue;
+      bool over = true;
+      for (std::size_t i = 0; i < nc && over; ++i) {
+        const Vec p0 = corners(i);
+        over = (corners((i + 1) % nc) - p0).cross(n).dot(y - p0) <= 0.0;
+      }
+      if (!over) continue;
+      const double soon = posed_.motion.predicted(posed_.R * y + posed_.x, n_world, gap);
+      if (!(soon < 0.0) || known(y)) continue;
+      insert({y, gap}, towards_b, soon);
+    }
+  }
+
+  // Appends the kept points after the manifold's.
+  void finish(PolyhedronContact& c) const {
+    for (int t = 0; t < count_; ++t) {
+      c.points[c.count + t] = point_[t];
+      c.ahead_normal[t] = normal_[t];
+    }
+    c.ahead = count_;
+  }
+
+ private:
+  bool known(const Vec& y) const {
+    for (int t = 0; t < c_.count; ++t)
+      if ((c_.points[t].position - y).norm() <= same_) return true;
+    for (int t = 0; t < count_; ++t)
+      if ((point_[t].position - y).norm() <= same_) return true;
+    return false;
+  }
+  // Sorted by `soon`, the first of equals first; the latest beyond kMaxAhead drops out.
+  void insert(const PolyhedronContactPoint& q, const Vec& n, double soon) {
+    int at = count_;
+    while (at > 0 && soon_[at - 1] > soon) --at;
+    if (at >= PolyhedronContact::kMaxAhead) return;
+    for (int t = std::min(count_, PolyhedronContact::kMaxAhead - 1); t > at; --t) {
+      point_[t] = point_[t - 1];
+      normal_[t] = normal_[t - 1];
+      soon_[t] = soon_[t - 1];
+    }
+    point_[at] = q;
+    normal_[at] = n;
+    soon_[at] = soon;
+    count_ = std::min(count_ + 1, PolyhedronContact::kMaxAhead);
+  }
+
+  const Posed& posed_;
+  const PolyhedronContact& c_;
+  double margin_, same_;
+  int count_ = 0;
+  std::array<PolyhedronContactPoint, PolyhedronContact::kMaxAhead> point_{};
+  std::array<Vec, PolyhedronContact::kMaxAhead> normal_{};
+  std::array<double, PolyhedronContact::kMaxAhead> soon_{};
+};
+
+void look_ahead(const ConvexPolyhedron& a, const ConvexPolyhedron& b, const Relative& rel,
+                const FaceQuery& fa, const FaceQuery& fb, double margin, const Posed& posed,
+                PolyhedronContact& c) {
+  LookAhead ahead(posed, c, margin, std::min(a.radius(), b.radius()));
+  const auto face_a = a.face(fa.face);
+  ahead.scan([&](std::size_t k) { return rel.at(b.vertices()[k]); }, b.vertices().size(),
+             [&](std::size_t i) { return a.vertices()[face_a[i]]; }, face_a.size(),
+             a.normals()[fa.face], a.offsets()[fa.face], a.normals()[fa.face]);
+  const auto face_b = b.face(fb.face);
+  const Vec n = rel.R * b.normals()[fb.face];
+  ahead.scan([&](std::size_t k) { return a.vertices()[k]; }, a.vertices().size(),
+             [&](std::size_t i) { return rel.at(b.vertices()[face_b[i]]); }, face_b.size(), n,
+             b.offsets()[fb.face] + n.dot(rel.t), Vec(-n));
+  ahead.finish(c);
+}
+
 }  // namespace
 
 PolyhedronContact polyhedron_contact(const ConvexPolyhedron& a, const Eigen::Vector3d& position_a,
@@ -350,7 +438,9 @@ PolyhedronContact polyhedron_contact(const ConvexPolyhedron& a, const Eigen::Vec
       edge_manifold(a, b, rel, e, c);
       break;
   }
-  for (int k = 0; k < c.count; ++k) c.points[k].position = ra * c.points[k].position + position_a;
+  if (motion.h != 0.0) look_ahead(a, b, rel, fa, fb, margin, {ra, position_a, motion}, c);
+  for (int k = 0; k < c.total(); ++k) c.points[k].position = ra * c.points[k].position + position_a;
+  for (int k = 0; k < c.ahead; ++k) c.ahead_normal[k] = ra * c.ahead_normal[k];
   return c;
 }
 

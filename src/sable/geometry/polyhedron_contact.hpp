@@ -95,7 +95,16 @@ struct PolyhedronContact {
   // incident face is only looked for when the manifold is built (else it is 0).
   std::uint32_t feature_a = 0, feature_b = 0;
   int count = 0;  // manifold points; 0 when separation > margin
-  std::array<PolyhedronContactPoint, kMaxPoints> points{};
+  // Look-ahead points (only with a ManifoldMotion, see there): points[count, count + ahead),
+  // each with its own normal ahead_normal[t - count] (world, from A to B).
+  static constexpr int kMaxAhead = 4;
+  int ahead = 0;
+  std::array<PolyhedronContactPoint, kMaxPoints + kMaxAhead> points{};
+  std::array<Eigen::Vector3d, kMaxAhead> ahead_normal{};
+  int total() const { return count + ahead; }
+  const Eigen::Vector3d& normal_of(int t) const {
+    return t < count ? normal : ahead_normal[t - count];
+  }
 };
 
 // How the two bodies move over the coming step of length h (rigid velocity fields
@@ -107,6 +116,16 @@ struct PolyhedronContact {
 // within the step, and a rule that ranked by the present gaps dropped that corner, which then
 // sank unconstrained (docs/contact-dynamics.md). The kept points' gaps are their present ones.
 // h = 0 (the default): the present gaps rank them.
+//
+// With the motion, a pair's manifold also gets look-ahead points: one axis's features say
+// nothing of the others that the step brings together (two crossed edges give one point, and
+// the grains turning about it bring a corner down onto a face; a face manifold's incident face
+// does not hold a corner of another face swinging down). For the face of A with the largest
+// separation, every vertex of B over it (its foot inside the face), open (gap >= 0, within the
+// margin) and closing within the step (predicted gap < 0), and likewise A's vertices over B's
+// best face, become points with that face's normal, the ones closing soonest first, up to
+// kMaxAhead, skipping any already in the manifold. Each is exact as a constraint: over the
+// face, the face's plane is the other grain's surface.
 struct ManifoldMotion {
   Eigen::Vector3d v_a = Eigen::Vector3d::Zero(), w_a = Eigen::Vector3d::Zero(),
                   x_a = Eigen::Vector3d::Zero();

@@ -391,6 +391,7 @@ std::unique_ptr<Solver> make_solver(const ScenarioConfig& cfg, World<D>& world, 
   CdSettings s;
   s.theta = c.theta;
   s.warm_start = c.warm_start;
+  s.overlap_recovery = c.overlap_recovery;
   s.nlgs.tolerance = c.tolerance;
   s.nlgs.max_iterations = static_cast<int>(std::min<std::uint64_t>(c.max_iterations, 1u << 30));
   s.nlgs.relaxation = c.relaxation;

@@ -59,6 +59,7 @@ struct CdConfig {
   double relaxation = 1.0;                   // in (0, 2)
   bool warm_start = true;                    // start each step from the last step's impulses
   std::uint64_t newton_iterations = 0;       // Newton steps where the NLGS stops short (0: none)
+  double overlap_recovery = 0.0;             // in [0, 1]: share of an overlap removed per step
   std::string residual_checks = "every_sweep";  // "every_sweep" | "spaced" (cd/nlgs.hpp)
   SourceLoc loc;
 };

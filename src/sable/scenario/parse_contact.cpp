@@ -81,8 +81,8 @@ CdConfig parse_cd(const Table& root, const std::string& solver) {
   if (!t) return c;
   if (solver != "cd") root.reject("cd", "unless simulation.solver = \"cd\"");
   t->check_keys({"theta", "tolerance", "max_iterations", "criterion", "local_solver", "sweep",
-                 "relaxation", "warm_start", "newton_iterations", "colour_block",
-                 "residual_checks"});
+                 "relaxation", "warm_start", "newton_iterations", "colour_block", "residual_checks",
+                 "overlap_recovery"});
   c.theta = t->number_or("theta", Range{0.5, 1.0, false, false}, c.theta);
   c.tolerance = t->number_or("tolerance", kPositive, c.tolerance);
   c.max_iterations = t->unsigned_or("max_iterations", c.max_iterations, 1);
@@ -92,6 +92,8 @@ CdConfig parse_cd(const Table& root, const std::string& solver) {
   c.colour_block = t->unsigned_or("colour_block", c.colour_block, 1);
   c.relaxation = t->number_or("relaxation", Range{0.0, 2.0, true, true}, c.relaxation);
   c.warm_start = t->boolean_or("warm_start", c.warm_start);
+  c.overlap_recovery =
+      t->number_or("overlap_recovery", Range{0.0, 1.0, false, false}, c.overlap_recovery);
   c.newton_iterations = t->unsigned_or("newton_iterations", c.newton_iterations, 0);
   c.residual_checks = t->choice("residual_checks", {"every_sweep", "spaced"}, c.residual_checks);
   c.loc = t->loc();
