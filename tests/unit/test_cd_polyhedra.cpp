@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "polyhedra_helpers.hpp"
-#include "sable/analysis/sample.hpp"
 #include "sable/cd/cd_solver.hpp"
 #include "sable/core/error.hpp"
 #include "sable/dem/dem_solver.hpp"
@@ -363,8 +362,6 @@ TEST(CdPolyhedra, RefusesWhatItDoesNotHandle) {
   cylinder.set_cylinder(0.1);
   drum.walls.push_back(cylinder);
   EXPECT_THROW(sable::CdSolver<3>(drum, {}).initialize(), sable::InputError);
-  // Analyses would read the round grains' normals and arms: refused.
-  EXPECT_THROW(sable::make_sample(w), sable::InputError);
 }
 
 }  // namespace

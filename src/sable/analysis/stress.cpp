@@ -106,7 +106,9 @@ MeanStress<D> mean_stress(const Sample<D>& s, const Region<D>& region,
     ++m.grains;
     const Vec lever = s.x[g] - x0;
     m.gravity -= s.mass[g] * s.gravity * lever.transpose();
-    const double j = 0.5 * s.inertia[g];  // int rho r r^T = (I / 2) Id for a disk or sphere
+    // int rho r r^T = (I / 2) Id for a disk, a sphere, or a polyhedron of equal principal
+    // moments (a cube; others: Sample::inertia is their mean, docs/analysis.md).
+    const double j = 0.5 * s.inertia[g];
     m.inertia += s.mass[g] * s.a[g] * lever.transpose() +
                  j * (cross_matrix(s.alpha[g]) + centripetal(s.omega[g]));
   }
