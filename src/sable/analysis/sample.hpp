@@ -124,9 +124,10 @@ struct Sample {
   std::string source;  // the snapshot file (or "live"), for messages
   ForceGeometry geometry = ForceGeometry::kSoft;
   // The grains are convex polyhedra (3D): `radius` is then each one's bounding sphere, not its
-  // size; `volume` its own; `inertia` its mean principal moment; contacts carry the normal and
-  // point the solver stored (world/contact_geometry.hpp). Analyses that need a round grain's
-  // geometry refuse such a sample (refuse_polyhedra()).
+  // size; `volume` its own; `inertia` its mean principal moment; `alpha` its world-frame
+  // inverse inertia tensor times its torque; contacts carry the normal and point the solver
+  // stored (world/contact_geometry.hpp). Analyses that need a round grain's geometry refuse
+  // such a sample (refuse_polyhedra()).
   bool polyhedra = false;
 
   std::size_t size() const { return x.size(); }
