@@ -65,9 +65,10 @@ double Sample<D>::total_mass() const {
 
 namespace {
 
-// A polyhedral grain's volume, its mean principal moment (the `inertia` scalar: exact for a
-// shape whose moments are equal, as a cube's) and its angular acceleration, which the
-// world-frame inverse inertia tensor gives (3D only: a 2D world holds no polyhedra).
+// A polyhedral grain's volume, its mean principal moment (the `inertia` scalar), its second
+// moment of mass in the world frame, and its angular acceleration by Euler's equations,
+// I_w alpha = torque - omega x I_w omega (the gyroscopic term is zero for a sphere, not for a
+// polyhedron). 3D only: a 2D world holds no polyhedra.
 template <int D>
 void add_polyhedron(const World<D>& w, std::size_t k, Sample<D>& s) {
   if constexpr (D == 3) {
@@ -76,7 +77,15 @@ void add_polyhedron(const World<D>& w, std::size_t k, Sample<D>& s) {
     const Eigen::Vector3d moments = shape.moments(p.mass[k]);
     s.volume[k] = shape.volume;
     s.inertia[k] = moments.sum() / 3.0;
-    if (!p.fixed(k)) s.alpha[k] = world_inverse_inertia(p.q[k], moments.cwiseInverse()) * p.t[k];
+    const Eigen::Matrix3d r = p.q[k].toRotationMatrix();
+    // int rho r r^T along the principal axes: J_x = (I_y + I_z - I_x) / 2, and so on.
+    const Eigen::Vector3d j = Eigen::Vector3d::Constant(0.5 * moments.sum()) - moments;
+    s.second_moment[k] = r * j.asDiagonal() * r.transpose();
+    if (p.fixed(k)) return;
+    const Eigen::Matrix3d inertia = r * moments.asDiagonal() * r.transpose();
+    const Eigen::Vector3d& omega = p.omega[k];
+    s.alpha[k] = world_inverse_inertia(p.q[k], moments.cwiseInverse()) *
+                 (p.t[k] - omega.cross(Eigen::Vector3d(inertia * omega)));
   }
 }
 
@@ -98,6 +107,7 @@ void add_grains(const World<D>& w, Sample<D>& s) {
   s.inertia.resize(n);
   s.fixed.resize(n);
   s.id.resize(n);
+  if (s.polyhedra) s.second_moment.assign(n, Eigen::Matrix<double, D, D>::Zero());
   constexpr double pi = 3.14159265358979323846;
   for (std::size_t k = 0; k < n; ++k) {
     const double r = p.radius[k];

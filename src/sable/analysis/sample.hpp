@@ -22,7 +22,8 @@
 //
 // Accelerations are those the solver integrated at the snapshot's instant: a = f / m + g with
 // f the contact force sum (DEM: forces at the stored positions; CD: impulses / h of the last
-// step), and alpha = I^-1 torque. Fixed grains have a = 0, alpha = 0.
+// step), and alpha = I^-1 torque (a polyhedron: Euler's equations, see Sample::polyhedra). Fixed
+// grains have a = 0, alpha = 0.
 //
 // Contact dynamics computes a step's impulses in the configuration at the START of the step
 // and then moves the grains (x_end = x_start + h v_end). A CD sample therefore places the
@@ -124,11 +125,14 @@ struct Sample {
   std::string source;  // the snapshot file (or "live"), for messages
   ForceGeometry geometry = ForceGeometry::kSoft;
   // The grains are convex polyhedra (3D): `radius` is then each one's bounding sphere, not its
-  // size; `volume` its own; `inertia` its mean principal moment; `alpha` its world-frame
-  // inverse inertia tensor times its torque; contacts carry the normal and point the solver
-  // stored (world/contact_geometry.hpp). Analyses that need a round grain's geometry refuse
+  // size; `volume` its own; `inertia` its mean principal moment; `alpha` from Euler's
+  // equations with its world-frame inertia tensor; contacts carry the normal and point the
+  // solver stored (world/contact_geometry.hpp). Analyses that need a round grain's geometry refuse
   // such a sample (refuse_polyhedra()).
   bool polyhedra = false;
+  // Polyhedra only (else empty): each grain's second moment of mass about its centroid in the
+  // world frame, int rho r r^T (kg m^2), for the mean stress's inertial part.
+  std::vector<Eigen::Matrix<double, D, D>> second_moment;
 
   std::size_t size() const { return x.size(); }
   double total_mass() const;
