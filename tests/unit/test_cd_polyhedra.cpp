@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "polyhedra_helpers.hpp"
-#include "sable/analysis/sample.hpp"
 #include "sable/cd/cd_solver.hpp"
 #include "sable/core/error.hpp"
 #include "sable/dem/dem_solver.hpp"
@@ -330,9 +329,11 @@ TEST(CdPolyhedra, SnapshotRestartIsBitIdentical) {
 
 // Threads: the manifolds are found and the coloured sweep solves them in parallel; one and
 // two threads give the same bits. 1,152 grains: enough list entries (over 2,048) for the
-// contact build's loops to run on both threads.
+// contact build's loops to run on both threads. The contacts' stored normals, points and
+// depths (outputs, outside the hash) too.
 TEST(CdPolyhedra, ThreadCountGivesTheSameBits) {
   std::uint64_t hash[2];
+  sable::ContactPoints<3> geometry[2];
   for (int threads = 1; threads <= 2; ++threads) {
     omp_set_num_threads(threads);
     sable::World<3> w = heap(12, 8, 5);
@@ -344,9 +345,18 @@ TEST(CdPolyhedra, ThreadCountGivesTheSameBits) {
     EXPECT_GT(w.neighbors.pairs.size(), 2048u);
     EXPECT_GT(contacts(solver), 50u);  // the problem the sweeps solve is not empty
     hash[threads - 1] = sable::state_hash(w);
+    geometry[threads - 1] = w.contact_geometry;
   }
   omp_set_num_threads(1);
   EXPECT_EQ(hash[0], hash[1]);
+  for (const auto member :
+       {&sable::ContactPoints<3>::pairs, &sable::ContactPoints<3>::wall_pairs}) {
+    const sable::EntryGeometry<3>&a = geometry[0].*member, &b = geometry[1].*member;
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(a.normal, b.normal);
+    EXPECT_EQ(a.arm, b.arm);
+    EXPECT_EQ(a.depth, b.depth);
+  }
 }
 
 // What is not built yet says so: contact dynamics refuses a sphere among polyhedra and walls
@@ -363,8 +373,6 @@ TEST(CdPolyhedra, RefusesWhatItDoesNotHandle) {
   cylinder.set_cylinder(0.1);
   drum.walls.push_back(cylinder);
   EXPECT_THROW(sable::CdSolver<3>(drum, {}).initialize(), sable::InputError);
-  // Analyses would read the round grains' normals and arms: refused.
-  EXPECT_THROW(sable::make_sample(w), sable::InputError);
 }
 
 }  // namespace

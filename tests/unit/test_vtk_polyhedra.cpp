@@ -17,7 +17,9 @@
 #include <vector>
 
 #include "mesh_world.hpp"
+#include "polyhedra_helpers.hpp"
 #include "run_helpers.hpp"
+#include "sable/cd/cd_solver.hpp"
 #include "sable/core/error.hpp"
 #include "sable/io/vtk.hpp"
 #include "sable/scenario/simulation.hpp"
@@ -192,6 +194,50 @@ TEST_F(VtkPolyhedra, FacesArePosedWoundOutwardAndCarryTheirGrain) {
       }
     }
   }
+}
+
+// The contacts' file draws a polyhedral contact through the point its solver stored: a cube
+// of side a resting on a fixed one, shifted by a / 4 along x, is pushed up under its centroid
+// (x = a / 4 on the shared face z = 0), off the line of centres (which crosses z = 0 at
+// x = a / 8). One line of three points, x_i, that point, x_j; its normal force m g (the CD
+// solver's 1e-11 tolerance, exactly the stored force's bits in binary).
+TEST_F(VtkPolyhedra, ContactsAreDrawnThroughTheirPoint) {
+  constexpr double a = 0.01, rho = 2500.0, g = 9.81;
+  World<3> w;
+  w.materials.add({"grain", rho, 0.0, 0.0, 0.0, 0.5, 0.0});
+  w.materials.finalize();
+  w.neighbors.skin = 0.2 * a;
+  w.neighbors.domain_lo.setConstant(-0.2);
+  w.neighbors.domain_hi.setConstant(0.2);
+  w.gravity = Vec(0.0, 0.0, -g);
+  w.dt = 1e-4;
+  sable::add_polyhedral_grain(
+      w, sable::test::box_points(Vec(-0.5, -0.5, -1) * a, Vec(0.5, 0.5, 0) * a), rho, 0, true);
+  sable::add_polyhedral_grain(
+      w, sable::test::box_points(Vec(-0.25, -0.5, 0) * a, Vec(0.75, 0.5, 1) * a), rho, 0);
+  sable::CdSettings settings;
+  settings.nlgs.tolerance = 1e-11;
+  settings.nlgs.max_iterations = 100000;
+  sable::CdSolver<3> solver(w, settings);
+  solver.initialize();
+  for (int k = 0; k < 20; ++k) solver.step();
+  const std::string file = path("contacts.vtp");
+  sable::write_contacts_vtp(w, file, VtkEncoding::kBinary);
+  const Arrays arrays = read_vtp(file);
+  const auto& xyz = arrays.at("Points");
+  ASSERT_EQ(xyz.size(), 9u);
+  EXPECT_EQ(arrays.at("Lines/connectivity"), (std::vector<double>{0.0, 1.0, 2.0}));
+  EXPECT_EQ(arrays.at("Lines/offsets"), std::vector<double>{3.0});
+  const auto& p = w.particles;
+  const std::uint32_t i = w.neighbors.pairs.i[0], j = w.neighbors.pairs.j[0];
+  EXPECT_EQ(point(xyz, 0), p.x[i]);
+  EXPECT_EQ(point(xyz, 1), Vec(p.x[i] + w.contact_geometry.pairs.arm[0]));
+  EXPECT_EQ(point(xyz, 2), p.x[j]);
+  EXPECT_NEAR(point(xyz, 1).x(), 0.25 * a, 1e-9 * a);
+  EXPECT_NEAR(point(xyz, 1).y(), 0.0, 1e-9 * a);
+  EXPECT_NEAR(point(xyz, 1).z(), 0.0, 1e-12 * a);
+  const double mg = p.mass[p.ids.slot(p.id[1])] * g;
+  EXPECT_NEAR(arrays.at("cell/normal_force").at(0), mg, 1e-9 * mg) << "compression positive";
 }
 
 // A world without polyhedra (round grains only, or none) gives a well-formed empty file.

@@ -21,10 +21,14 @@ void append(ContactSet<D>& dst, const ContactSet<D>& src, const std::vector<bool
                src.arm_j[k], src.branch[k], src.overlap[k], src.friction[k], src.motion(k));
 }
 
+// A polyhedron's diameter here is its volume-equivalent sphere's (its `radius` is its bounding
+// sphere's, which a flat or long grain far exceeds).
 template <int D>
 double mean_diameter(const Sample<D>& s) {
+  constexpr double pi = 3.14159265358979323846;
   double d = 0.0;
-  for (double r : s.radius) d += 2.0 * r;
+  for (std::size_t k = 0; k < s.size(); ++k)
+    d += s.polyhedra ? std::cbrt(6.0 * s.volume[k] / pi) : 2.0 * s.radius[k];
   return s.size() ? d / static_cast<double>(s.size()) : 0.0;
 }
 
@@ -174,7 +178,22 @@ void AnalysisParts<D>::add(const Sample<D>& s) {
 }
 
 template <int D>
+void AnalysisParts<D>::skip_refused(const Sample<D>& s) {
+  if (!s.polyhedra) return;
+  std::vector<std::pair<std::string, std::string>> refused{{"dissipation", kDissipationPolyhedra}};
+  if (opt_.kernel == "sphere") refused.emplace_back("fields", kSphereKernelPolyhedra);
+  for (const auto& [name, why] : refused) {
+    if (!analysis_wanted(opt_, name.c_str()) || skipped_.count(name)) continue;
+    if (!opt_.only.empty()) refuse_polyhedra(s, name, why);
+    skipped_[name] = why;
+    summary_.add("skipped_" + name, "polyhedral grains: " + why);
+    if (opt_.log) *opt_.log << fmt::format("{}: skipped for polyhedral grains: {}\n", name, why);
+  }
+}
+
+template <int D>
 void AnalysisParts<D>::add_lab(const Sample<D>& s) {
+  skip_refused(s);
   if (wants("dissipation")) budgets_.push_back(power_budget(s));
 }
 

@@ -37,7 +37,13 @@ class AnalysisParts {
   void finish();
 
  private:
-  bool wants(const char* name) const { return analysis_wanted(opt_, name); }
+  bool wants(const char* name) const {
+    return analysis_wanted(opt_, name) && skipped_.count(name) == 0;
+  }
+  // A sample of polyhedral grains: the analyses that cannot hold for them (dissipation; fields
+  // with the sphere kernel) refuse with their message when named in --only, and are skipped
+  // (logged and listed in the summary) when every analysis runs.
+  void skip_refused(const Sample<D>& s);
   Region<D> region_of(const Sample<D>& s) const;
   void add_contacts(const Sample<D>& s);
   void add_stress(const Sample<D>& s, std::vector<double>& row);
@@ -87,8 +93,9 @@ class AnalysisParts {
   std::optional<Fields<D>> fields_;
   std::optional<Sample<D>> last_;
   std::optional<std::pair<DragOptions, DragResult>> drag_;
-  std::vector<LoadShare> load_shares_;  // one per sample
-  std::vector<PowerBudget> budgets_;    // one per sample, in the lab frame
+  std::vector<LoadShare> load_shares_;          // one per sample
+  std::vector<PowerBudget> budgets_;            // one per sample, in the lab frame
+  std::map<std::string, std::string> skipped_;  // analysis -> why (polyhedra)
 };
 
 // Pressure PDF: p / p_ref over a symmetric range, p_ref the mean |p| of the non-zero ones.

@@ -260,6 +260,8 @@ void validate(const FieldSpec<D>& spec) {
 template <int D>
 Fields<D> coarse_grain(const Sample<D>& sample, const FieldSpec<D>& spec) {
   validate(spec);
+  if (spec.kernel == CgKernel::Sphere)
+    refuse_polyhedra(sample, "coarse-graining (fields)", kSphereKernelPolyhedra);
   Fields<D> f;
   f.spec = spec;
   f.thickness = D == 2 ? sample.thickness : 1.0;

@@ -150,6 +150,12 @@ struct Fields {
 };
 
 // Coarse-grain one sample: the linear sums, then finish(). Throws InputError (validate()).
+// Why the sphere kernel refuses polyhedral grains: it spreads each grain's volume as a ball's
+// (the fraction of the ball inside the kernel's), which a polyhedron is not.
+inline constexpr const char* kSphereKernelPolyhedra =
+    "the sphere kernel spreads each grain as a ball; use --kernel gaussian or lucy";
+
+// Throws InputError for the sphere kernel on polyhedral grains (kSphereKernelPolyhedra).
 template <int D>
 Fields<D> coarse_grain(const Sample<D>& sample, const FieldSpec<D>& spec);
 

@@ -18,6 +18,7 @@ PowerBudget power_budget(const Sample<D>& s) {
   using S = Space<D>;
   using Vec = typename S::Vec;
   check_contact_indices(s);
+  refuse_polyhedra(s, "dissipation", kDissipationPolyhedra);
   PowerBudget r;
   r.time = s.time;
   r.rigid = s.geometry == ForceGeometry::kContactDynamics;

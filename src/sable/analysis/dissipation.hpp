@@ -53,6 +53,14 @@ struct PowerBudget {
   double walls() const;
 };
 
+// Why polyhedral grains are refused (refuse_polyhedra()): the DEM law has a dashpot per
+// manifold point and a spring per entry whose powers the lists do not keep, and a rotational
+// energy needs each grain's inertia tensor.
+inline constexpr const char* kDissipationPolyhedra =
+    "the contact law's dashpots act at each manifold point, which the snapshot does not keep, "
+    "so the dissipated power cannot be rebuilt";
+
+// Throws InputError for a sample of polyhedral grains (kDissipationPolyhedra).
 template <int D>
 PowerBudget power_budget(const Sample<D>& s);
 

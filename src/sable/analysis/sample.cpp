@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "sable/core/error.hpp"
+#include "sable/core/rigid_rotation.hpp"
 #include "sable/io/snapshot.hpp"
 #include "sable/world/world.hpp"
 
@@ -64,6 +65,30 @@ double Sample<D>::total_mass() const {
 
 namespace {
 
+// A polyhedral grain's volume, its mean principal moment (the `inertia` scalar), its second
+// moment of mass in the world frame, and its angular acceleration by Euler's equations,
+// I_w alpha = torque - omega x I_w omega (the gyroscopic term is zero for a sphere, not for a
+// polyhedron). 3D only: a 2D world holds no polyhedra.
+template <int D>
+void add_polyhedron(const World<D>& w, std::size_t k, Sample<D>& s) {
+  if constexpr (D == 3) {
+    const auto& p = w.particles;
+    const PolyhedronShape& shape = w.shapes[p.shape_index[k]];
+    const Eigen::Vector3d moments = shape.moments(p.mass[k]);
+    s.volume[k] = shape.volume;
+    s.inertia[k] = moments.sum() / 3.0;
+    const Eigen::Matrix3d r = p.q[k].toRotationMatrix();
+    // int rho r r^T along the principal axes: J_x = (I_y + I_z - I_x) / 2, and so on.
+    const Eigen::Vector3d j = Eigen::Vector3d::Constant(0.5 * moments.sum()) - moments;
+    s.second_moment[k] = r * j.asDiagonal() * r.transpose();
+    if (p.fixed(k)) return;
+    const Eigen::Matrix3d inertia = r * moments.asDiagonal() * r.transpose();
+    const Eigen::Vector3d& omega = p.omega[k];
+    s.alpha[k] = world_inverse_inertia(p.q[k], moments.cwiseInverse()) *
+                 (p.t[k] - omega.cross(Eigen::Vector3d(inertia * omega)));
+  }
+}
+
 template <int D>
 void add_grains(const World<D>& w, Sample<D>& s) {
   using S = Space<D>;
@@ -82,6 +107,7 @@ void add_grains(const World<D>& w, Sample<D>& s) {
   s.inertia.resize(n);
   s.fixed.resize(n);
   s.id.resize(n);
+  if (s.polyhedra) s.second_moment.assign(n, Eigen::Matrix<double, D, D>::Zero());
   constexpr double pi = 3.14159265358979323846;
   for (std::size_t k = 0; k < n; ++k) {
     const double r = p.radius[k];
@@ -96,6 +122,7 @@ void add_grains(const World<D>& w, Sample<D>& s) {
       s.a[k] = p.f[k] * p.inv_mass[k] + w.gravity;
       s.alpha[k] = p.t[k] * p.inv_inertia[k];
     }
+    if (p.polyhedron(k)) add_polyhedron(w, k, s);
   }
 }
 
@@ -171,20 +198,67 @@ void add_contacts(const World<D>& w, Sample<D>& s) {
 
 }  // namespace
 
+// Polyhedral contacts: normal, point and depth as the solver stored them
+// (world/contact_geometry.hpp), arms relative to the centres, so that they hold at the CD
+// sample's positions too. Neither dashpots nor springs per entry: the DEM law has them per
+// manifold point, which the lists do not keep (the dissipation analysis refuses polyhedra).
+template <int D>
+void add_polyhedral_contacts(const World<D>& w, Sample<D>& s) {
+  using S = Space<D>;
+  using Vec = typename S::Vec;
+  const auto& p = w.particles;
+  const auto& g = w.contact_geometry;
+  const auto& pl = w.neighbors.pairs;
+  const auto& wl = w.neighbors.wall_pairs;
+  auto& c = s.contacts;
+  c.clear();
+  const auto any_force = [](const std::vector<Vec>& f) {
+    return std::any_of(f.begin(), f.end(), [](const Vec& v) { return v.squaredNorm() > 0.0; });
+  };
+  if (!g.matches(pl.size(), wl.size())) {
+    if (!any_force(pl.force) && !any_force(wl.force)) return;  // nothing touches yet
+    throw InputError(
+        "analysis of polyhedral grains: the contacts' normals and points are missing (a "
+        "snapshot written before they were kept, or a World not stepped since its lists were "
+        "made): step the run once and write it again");
+  }
+  for (std::size_t k = 0; k < pl.size(); ++k) {
+    const Vec& f = pl.force[k];
+    if (f.squaredNorm() == 0.0) continue;
+    const std::uint32_t i = pl.i[k], j = pl.j[k];
+    const Vec arm_i = g.pairs.arm[k];
+    const Vec arm_j = s.x[i] + arm_i - s.x[j];
+    ContactMotion<D> m;
+    m.vrel =
+        p.v[i] + S::spin_velocity(p.omega[i], arm_i) - p.v[j] - S::spin_velocity(p.omega[j], arm_j);
+    c.push(i, j, false, g.pairs.normal[k], f, arm_i, arm_j, Vec(s.x[j] - s.x[i]), g.pairs.depth[k],
+           w.materials.pair(p.material[i], p.material[j]).friction, m);
+  }
+  for (std::size_t k = 0; k < wl.size(); ++k) {
+    const Vec& f = wl.force[k];
+    if (f.squaredNorm() == 0.0) continue;
+    const std::uint32_t i = wl.i[k];
+    Wall<D> wall = w.walls[wl.wall[k]];
+    if (s.geometry == ForceGeometry::kContactDynamics) wall.point -= w.dt * wall.velocity;
+    const Vec arm = g.wall_pairs.arm[k];
+    ContactMotion<D> m;
+    m.vrel = p.v[i] + S::spin_velocity(p.omega[i], arm) - wall.velocity_at(Vec(s.x[i] + arm));
+    c.push(i, wl.wall[k], true, g.wall_pairs.normal[k], f, arm, Vec::Zero(), arm,
+           g.wall_pairs.depth[k], w.materials.pair(p.material[i], wall.material).friction, m);
+  }
+}
+
 template <int D>
 Sample<D> make_sample(const World<D>& w, ForceGeometry geometry) {
   using S = Space<D>;
-  // A polyhedral pair's force acts at its manifold's centre of pressure along the manifold's
-  // normal, neither of which the lists keep yet: the round grains' normals and arms would give
-  // wrong normal forces and stresses, so no analysis reads such a World.
-  if (!w.shapes.empty())
-    throw InputError(
-        "analysis of polyhedral grains: their contacts' normals and points are not kept yet "
-        "(the snapshot's forces, positions and orientations are; docs/analysis.md)");
   Sample<D> s;
   s.geometry = geometry;
+  s.polyhedra = !w.shapes.empty();
   add_grains(w, s);
-  add_contacts(w, s);
+  if (s.polyhedra)
+    add_polyhedral_contacts(w, s);
+  else
+    add_contacts(w, s);
   for (const auto& wall : w.walls) {
     SampleWall sw;
     sw.name = wall.name;
@@ -213,6 +287,13 @@ void check_contact_indices(const Sample<D>& s) {
     if (c.i[k] >= s.size() || (!c.is_wall(k) && c.j[k] >= s.size()))
       throw InputError(fmt::format("{}: contact {} names grain {} or {}, the sample holds {}",
                                    s.source, k, c.i[k], c.j[k], s.size()));
+}
+
+template <int D>
+void refuse_polyhedra(const Sample<D>& s, const std::string& analysis, const std::string& why) {
+  if (s.polyhedra)
+    throw InputError(fmt::format("{}: the {} analysis does not apply to polyhedral grains: {}",
+                                 s.source, analysis, why));
 }
 
 int snapshot_dimension(const std::string& path) {
@@ -250,6 +331,8 @@ template Sample<2> make_sample(const World<2>&, ForceGeometry);
 template Sample<3> make_sample(const World<3>&, ForceGeometry);
 template void check_contact_indices(const Sample<2>&);
 template void check_contact_indices(const Sample<3>&);
+template void refuse_polyhedra(const Sample<2>&, const std::string&, const std::string&);
+template void refuse_polyhedra(const Sample<3>&, const std::string&, const std::string&);
 template Region<2> grain_bounds(const Sample<2>&);
 template Region<3> grain_bounds(const Sample<3>&);
 

@@ -14,13 +14,16 @@
 //  - arm_i = contact point - x_i, arm_j = contact point - x_j (zero for walls); for an
 //    overlapping pair both arms reach the same point, the middle of the overlap, which is
 //    where the DEM solver applies the force (the torques it integrates use these arms);
+//    for polyhedral grains both reach the point the solver stored: DEM's centre of pressure,
+//    CD's centre of the manifold points weighted by their normal impulses;
 //  - branch = x_j - x_i for grain pairs, arm_i for wall contacts;
 //  - stresses are positive in compression (soil-mechanics sign; Dumont-Fortin-Ouafik write
 //    theirs positive in tension: their tensor is minus ours).
 //
 // Accelerations are those the solver integrated at the snapshot's instant: a = f / m + g with
 // f the contact force sum (DEM: forces at the stored positions; CD: impulses / h of the last
-// step), and alpha = I^-1 torque. Fixed grains have a = 0, alpha = 0.
+// step), and alpha = I^-1 torque (a polyhedron: Euler's equations, see Sample::polyhedra). Fixed
+// grains have a = 0, alpha = 0.
 //
 // Contact dynamics computes a step's impulses in the configuration at the START of the step
 // and then moves the grains (x_end = x_start + h v_end). A CD sample therefore places the
@@ -121,6 +124,15 @@ struct Sample {
   std::uint64_t step = 0;
   std::string source;  // the snapshot file (or "live"), for messages
   ForceGeometry geometry = ForceGeometry::kSoft;
+  // The grains are convex polyhedra (3D): `radius` is then each one's bounding sphere, not its
+  // size; `volume` its own; `inertia` its mean principal moment; `alpha` from Euler's
+  // equations with its world-frame inertia tensor; contacts carry the normal and point the
+  // solver stored (world/contact_geometry.hpp). Analyses that need a round grain's geometry refuse
+  // such a sample (refuse_polyhedra()).
+  bool polyhedra = false;
+  // Polyhedra only (else empty): each grain's second moment of mass about its centroid in the
+  // world frame, int rho r r^T (kg m^2), for the mean stress's inertial part.
+  std::vector<Eigen::Matrix<double, D, D>> second_moment;
 
   std::size_t size() const { return x.size(); }
   double total_mass() const;
@@ -150,6 +162,10 @@ struct SampleLoaders {
 // analyses that index grains by contact call it once before they start.
 template <int D>
 void check_contact_indices(const Sample<D>& s);
+
+// Throws InputError naming `analysis` and `why` if the sample holds polyhedral grains.
+template <int D>
+void refuse_polyhedra(const Sample<D>& s, const std::string& analysis, const std::string& why);
 
 // The dimension of a snapshot (2 or 3), read from its header.
 int snapshot_dimension(const std::string& snapshot_path);

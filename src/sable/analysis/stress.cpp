@@ -106,9 +106,12 @@ MeanStress<D> mean_stress(const Sample<D>& s, const Region<D>& region,
     ++m.grains;
     const Vec lever = s.x[g] - x0;
     m.gravity -= s.mass[g] * s.gravity * lever.transpose();
-    const double j = 0.5 * s.inertia[g];  // int rho r r^T = (I / 2) Id for a disk or sphere
+    // The spin's part, int rho (alpha x r + w x (w x r)) (x) r = ([alpha]x + w w^T - |w|^2 I) J
+    // with J = int rho r r^T: (I / 2) Id for a disk or a sphere, a polyhedron's own tensor.
+    const Tensor<D> spin = cross_matrix(s.alpha[g]) + centripetal(s.omega[g]);
     m.inertia += s.mass[g] * s.a[g] * lever.transpose() +
-                 j * (cross_matrix(s.alpha[g]) + centripetal(s.omega[g]));
+                 (s.second_moment.empty() ? Tensor<D>(0.5 * s.inertia[g] * spin)
+                                          : Tensor<D>(spin * s.second_moment[g]));
   }
   if (m.grains == 0) throw InputError(fmt::format("{}: the region holds no grain", s.source));
   const auto& c = s.contacts;

@@ -19,9 +19,10 @@
 //      inertia  part  A = +(1/V) sum_i [ m_i a_i (x) (x_i - x0) + J_i ([alpha_i]x + w w^T - |w|^2
 //      I) ]
 //    with J_i = I_i / 2 the grain's second moment of mass (int rho r r^T = J_i Id for a disk or
-//    sphere). Each part alone need not be symmetric; their sum is, when every grain obeys
-//    m a = sum f + m g and I alpha = sum arm x f (any instant of a DEM run; a CD step up to the
-//    solver's tolerance), and it does not depend on x0.
+//    sphere; a polyhedron's J_i is its tensor, Sample::second_moment, multiplying on the right).
+//    Each part alone need not be symmetric; their sum is, when every grain obeys m a = sum f + m g
+//    and I alpha = sum arm x f (any instant of a DEM run; a CD step up to the solver's tolerance),
+//    and it does not depend on x0.
 #pragma once
 
 #include <Eigen/Dense>

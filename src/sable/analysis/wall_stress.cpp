@@ -97,7 +97,11 @@ WallProfile wall_profile(const Sample<D>& s, const std::string& name,
   double mean_d = 0.0, bottom = std::numeric_limits<double>::max();
   p.top = -bottom;
   for (std::size_t g = 0; g < s.size(); ++g) {
-    mean_d += 2.0 * s.radius[g] / static_cast<double>(s.size());
+    // A polyhedron's size is its volume-equivalent sphere's; its bounding sphere (`radius`)
+    // still bounds the profile, which must hold the whole grain.
+    const double d =
+        s.polyhedra ? std::cbrt(6.0 * s.volume[g] / 3.14159265358979323846) : 2.0 * s.radius[g];
+    mean_d += d / static_cast<double>(s.size());
     p.top = std::max(p.top, s.x[g][p.axis] + s.radius[g]);
     bottom = std::min(bottom, s.x[g][p.axis] - s.radius[g]);
   }

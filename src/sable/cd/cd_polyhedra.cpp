@@ -11,6 +11,9 @@
 // same whatever it is, only the sweeps needed change).
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <limits>
+
 #include "sable/cd/cd_solver.hpp"
 #include "sable/core/error.hpp"
 #include "sable/core/parallel.hpp"
@@ -23,6 +26,9 @@ void CdSolver<2>::build_polyhedral_contacts() {}  // a 2D world holds no polyhed
 
 template <>
 void CdSolver<2>::check_polyhedral_world() const {}
+
+template <>
+void CdSolver<2>::store_polyhedral_geometry() {}
 
 // What the solver does with polyhedra today: every grain a polyhedron, walls that are planes
 // (wall bodies included), no rolling resistance (a polyhedron's faces resist rolling).
@@ -114,6 +120,43 @@ void CdSolver<3>::build_polyhedral_contacts() {
       set_contact<true>(slot_[np + k] + t, i, wl.wall[k], static_cast<std::uint32_t>(k),
                         -m.normal_of(t), m.points[t].gap, m.points[t].position - p.x[i],
                         Vec::Zero(), pp, share, Rot::Zero());
+  }
+}
+
+// An entry's contact point is the centre of its points weighted by their normal impulses:
+// the impulses are parallel (one normal per manifold), so their sum acting there has the
+// moment of the points' normal impulses, which is what a particle stress needs. Without a
+// normal impulse (the entry carries no force) the mean of the points stands in. The normal
+// runs from grain i towards its partner, opposite to the contact frames' (from j to i).
+template <>
+void CdSolver<3>::store_polyhedral_geometry() {
+  auto& g = world_.contact_geometry;
+  const std::size_t np = world_.neighbors.pairs.size(), nw = world_.neighbors.wall_pairs.size();
+  g.pairs.resize(np);
+  g.wall_pairs.resize(nw);
+  const auto n_all = static_cast<std::ptrdiff_t>(np + nw);
+#pragma omp parallel for schedule(static) if (n_all >= kMinParallelItems)
+  for (std::ptrdiff_t e = 0; e < n_all; ++e) {
+    const auto k = static_cast<std::size_t>(e);
+    EntryGeometry<3>& out = k < np ? g.pairs : g.wall_pairs;
+    const std::size_t row = k < np ? k : k - np;
+    const std::size_t first = slot_[k], end = slot_[k + 1];
+    if (first == end) {
+      out.set(row, Vec::Zero(), Vec::Zero(), 0.0);
+      continue;
+    }
+    double weight = 0.0, depth = -std::numeric_limits<double>::infinity();
+    Vec weighted = Vec::Zero(), mean = Vec::Zero();
+    for (std::size_t a = first; a < end; ++a) {
+      const double rn = c_.r[a][0];
+      weighted += rn * c_.arm_i[a];
+      weight += rn;
+      mean += c_.arm_i[a];
+      depth = std::max(depth, -c_.gap[a]);
+    }
+    const Vec arm =
+        weight > 0.0 ? Vec(weighted / weight) : Vec(mean / static_cast<double>(end - first));
+    out.set(row, Vec(-c_.frame[first].col(0)), arm, depth);
   }
 }
 

@@ -284,6 +284,7 @@ void CdSolver<D>::step() {
         world_.step, result_.residual, result_.iterations));
   }
   store_impulses();
+  if (!world_.shapes.empty()) store_polyhedral_geometry();
   {
     auto scope = timers_.time(Phase::kIntegrate);
     drift(h);

@@ -133,6 +133,9 @@ class CdSolver final : public Solver {
   // gives its manifold's points (up to 4), each point a contact.
   void build_polyhedral_contacts();
   void check_polyhedral_world() const;
+  // Each list entry's normal, point and depth into World::contact_geometry, from its
+  // manifold's contacts and their solved impulses (cd/cd_polyhedra.cpp).
+  void store_polyhedral_geometry();
   // check_polyhedral_world() on the first call with polyhedra (initialize(), or a resumed
   // run's first step): a World's grains and walls keep their kinds through a run.
   void check_polyhedra_once() {
@@ -184,6 +187,10 @@ template <>
 void CdSolver<2>::build_polyhedral_contacts();
 template <>
 void CdSolver<3>::build_polyhedral_contacts();
+template <>
+void CdSolver<2>::store_polyhedral_geometry();
+template <>
+void CdSolver<3>::store_polyhedral_geometry();
 template <>
 void CdSolver<2>::check_polyhedral_world() const;
 template <>

@@ -62,6 +62,7 @@ PolyhedralDem::EntryForce manifold_force(const PolyhedronContact& c, const Vec& 
   // depth-weighted centre when every dashpot cancels its spring).
   e.at = normal > 0.0 ? Vec(centre / normal) : Vec(deep_centre / depth_sum);
   e.force = normal * n;
+  e.normal = -n;
   if (model.tangential == TangentialModel::kNone || pp.friction == 0.0) {
     shear.setZero();
     return e;
@@ -230,11 +231,15 @@ void PolyhedralDem::sum_forces() {
   wall_totals_.reset(w_.walls.size());
   diag_.touching = 0;
   diag_.max_overlap_ratio = 0.0;
+  auto& geometry = w_.contact_geometry;
+  geometry.pairs.resize(pair_out_.size());
+  geometry.wall_pairs.resize(wall_out_.size());
   for (std::size_t k = 0; k < pair_out_.size(); ++k) {
     const EntryForce& e = pair_out_[k];
     nl.pairs.force[k] = e.force;
-    if (e.depth == 0.0) continue;
     const std::uint32_t i = nl.pairs.i[k], j = nl.pairs.j[k];
+    geometry.pairs.set(k, e.normal, e.depth == 0.0 ? Vec::Zero() : Vec(e.at - p.x[i]), e.depth);
+    if (e.depth == 0.0) continue;
     p.f[i] += e.force;
     p.t[i] += (e.at - p.x[i]).cross(e.force);
     p.f[j] -= e.force;
@@ -246,8 +251,10 @@ void PolyhedralDem::sum_forces() {
   for (std::size_t k = 0; k < wall_out_.size(); ++k) {
     const EntryForce& e = wall_out_[k];
     nl.wall_pairs.force[k] = e.force;
-    if (e.depth == 0.0) continue;
     const std::uint32_t i = nl.wall_pairs.i[k], wall = nl.wall_pairs.wall[k];
+    geometry.wall_pairs.set(k, e.normal, e.depth == 0.0 ? Vec::Zero() : Vec(e.at - p.x[i]),
+                            e.depth);
+    if (e.depth == 0.0) continue;
     p.f[i] += e.force;
     p.t[i] += (e.at - p.x[i]).cross(e.force);
     wall_totals_.add_force(wall, -e.force);

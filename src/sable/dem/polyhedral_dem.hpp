@@ -53,7 +53,8 @@ class PolyhedralDem {
   struct EntryForce {
     Vec force = Vec::Zero();
     Vec at = Vec::Zero();
-    double depth = 0.0;  // the deepest point's overlap (0: apart)
+    double depth = 0.0;        // the deepest point's overlap (0: apart)
+    Vec normal = Vec::Zero();  // unit, from grain i towards its partner (zero: apart)
   };
 
  private:

@@ -67,6 +67,7 @@ struct Loaded {
   NeighborList<D> neighbors;
   LiquidState liquid;
   GrainShapes shapes;
+  ContactPoints<D> contact_geometry;
   double time = 0.0, dt = 0.0;
   std::uint64_t step = 0, hash = 0;
   std::array<std::uint64_t, 4> rng{};
@@ -422,6 +423,26 @@ void read_rolling(const h5::File& f, Loaded<D>& s) {
                             "one per wall pair, as '/neighbors/wall_pairs/i'");
 }
 
+// The polyhedral contacts' normals, points and depths, if the file has them (written with
+// polyhedra once a solver has stepped: io/snapshot_write.cpp); one row per list entry.
+template <int D>
+void read_contact_geometry(const h5::File& f, Loaded<D>& s) {
+  using Vec = typename Space<D>::Vec;
+  if (!f.exists("/neighbors/pairs/normal")) return;
+  auto read = [&](const std::string& list, std::size_t rows, EntryGeometry<D>& out) {
+    const std::string why = fmt::format("one per entry, as '/neighbors/{}/i'", list);
+    const std::string base = "/neighbors/" + list + "/";
+    out.normal = read_rows<Vec>(f, base + "normal", rows, why);
+    out.arm = read_rows<Vec>(f, base + "arm", rows, why);
+    out.depth = read_rows<double>(f, base + "depth", rows, why);
+    for (std::size_t k = 0; k < rows; ++k)
+      if (!std::isfinite(out.normal[k].squaredNorm() + out.arm[k].squaredNorm() + out.depth[k]))
+        f.fail(fmt::format("'{}normal', 'arm' or 'depth' row {} is not finite", base, k));
+  };
+  read("pairs", s.neighbors.pairs.size(), s.contact_geometry.pairs);
+  read("wall_pairs", s.neighbors.wall_pairs.size(), s.contact_geometry.wall_pairs);
+}
+
 template <int D>
 void read_liquid(const h5::File& f, bool wet_model, std::size_t grains, Loaded<D>& s) {
   auto& pl = s.neighbors.pairs;
@@ -474,6 +495,7 @@ void swap_state(World<D>& w, Loaded<D>& s) {
   using std::swap;
   swap(w.particles, s.particles);
   swap(w.shapes, s.shapes);
+  swap(w.contact_geometry, s.contact_geometry);
   for (std::size_t k = 0; k < w.walls.size(); ++k) {
     swap(w.walls[k].point, s.wall_point[k]);
     swap(w.walls[k].velocity, s.wall_velocity[k]);
@@ -532,6 +554,7 @@ RunPosition load_snapshot(const std::string& path, World<D>& world, std::string*
   read_neighbors(f, s.particles.size(), elements, s.neighbors);
   read_liquid(f, world.neighbors.bridges, s.particles.size(), s);
   read_rolling(f, s);
+  read_contact_geometry(f, s);
   std::string text = f.read_string("/scenario");
   swap_state(world, s);
   // The state as it was written: with rolling springs and liquid bridges if the file has

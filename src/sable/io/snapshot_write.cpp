@@ -242,6 +242,22 @@ void write_shapes(h5::File& f, const World<D>& w, Rows at) {
   f.write("/shapes/inertia", inertia, 3);
 }
 
+// Polyhedral contacts' normals, points and depths (world/contact_geometry.hpp), only when the
+// run has polyhedra and the solver has written one row per list entry (a World not stepped
+// since its lists were made has none). Outputs of the step, not state: the hash leaves them out.
+template <int D>
+void write_contact_geometry(h5::File& f, const World<D>& w, const Families& at) {
+  const ContactPoints<D>& g = w.contact_geometry;
+  if (w.shapes.empty() || !g.matches(w.neighbors.pairs.size(), w.neighbors.wall_pairs.size()))
+    return;
+  write_rows(f, "/neighbors/pairs/normal", g.pairs.normal, at.pairs);
+  write_rows(f, "/neighbors/pairs/arm", g.pairs.arm, at.pairs);
+  write_rows(f, "/neighbors/pairs/depth", g.pairs.depth, at.pairs);
+  write_rows(f, "/neighbors/wall_pairs/normal", g.wall_pairs.normal, at.wall_pairs);
+  write_rows(f, "/neighbors/wall_pairs/arm", g.wall_pairs.arm, at.wall_pairs);
+  write_rows(f, "/neighbors/wall_pairs/depth", g.wall_pairs.depth, at.wall_pairs);
+}
+
 template <int D>
 void write_state(h5::File& f, const World<D>& w, const SnapshotPart<D>* part) {
   const Families at = families_of(part);
@@ -252,6 +268,7 @@ void write_state(h5::File& f, const World<D>& w, const SnapshotPart<D>* part) {
   write_neighbors(f, w.neighbors, at);
   write_liquid(f, w, at, part != nullptr && part->films);
   write_rolling(f, w.neighbors, at);
+  write_contact_geometry(f, w, at);
 }
 
 }  // namespace

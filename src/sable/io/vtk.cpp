@@ -200,15 +200,20 @@ void write_contacts_vtp(const World<D>& world, const std::string& path, VtkEncod
   std::vector<double> xyz, fn, fn_vec, ft_vec, bridge;
   std::vector<std::int64_t> id_i, id_j;
   const bool wet = pl.bridge.size() == pl.size() && world.neighbors.bridges;
+  // A polyhedral contact acts at the point its solver stored, off the line of centres: it is
+  // drawn as two segments, x_i to the point to x_j, along the stored normal.
+  const auto& g = world.contact_geometry;
+  const bool through = !world.shapes.empty() && g.pairs.size() == pl.size();
   for (std::size_t k = 0; k < pl.size(); ++k) {
     const std::uint32_t i = pl.i[k], j = pl.j[k];
     if (!nonzero(pl.force[k]) || i >= p.size() || j >= p.size()) continue;
     const Vec d = p.x[i] - p.x[j];
     const double dist = d.norm();
-    const Vec n = dist > 0.0 ? Vec(d / dist) : Vec(Vec::Zero());
+    const Vec n = through ? Vec(-g.pairs.normal[k]) : dist > 0.0 ? Vec(d / dist) : Vec(Vec::Zero());
     const Vec& f = pl.force[k];
     const double f_n = f.dot(n);
     append3(xyz, S::to_array(p.x[i]));
+    if (through) append3(xyz, S::to_array(Vec(p.x[i] + g.pairs.arm[k])));
     append3(xyz, S::to_array(p.x[j]));
     fn.push_back(f_n);
     append3(fn_vec, S::to_array(Vec(f_n * n)));
@@ -217,10 +222,11 @@ void write_contacts_vtp(const World<D>& world, const std::string& path, VtkEncod
     id_j.push_back(p.id[j].index);
     if (wet) bridge.push_back(pl.bridge[k]);
   }
-  const std::size_t lines = fn.size();  // one segment per contact, from x_i to x_j
+  const std::size_t lines = fn.size();  // one line per contact, from x_i to x_j
+  const std::size_t per_line = through ? 3 : 2;
   write_pieces_atomic(path, [&](const PutText& put) {
     write_vtk_xml(put, encoding, "PolyData", [&](VtkXmlWriter& s) {
-      begin_piece(s, {2 * lines, 0, lines, 0});
+      begin_piece(s, {per_line * lines, 0, lines, 0});
       s.text("<CellData Scalars=\"normal_force\">\n");
       real_array(s, "normal_force", 1, fn);
       real_array(s, "normal_force_vector", 3, fn_vec);
@@ -231,7 +237,7 @@ void write_contacts_vtp(const World<D>& world, const std::string& path, VtkEncod
       if (wet) real_array(s, "bridge_volume", 1, bridge);
       s.text("</CellData>\n");
       points_section(s, xyz.size(), [&](std::size_t k) { return xyz[k]; });
-      uniform_cells_section(s, "Lines", lines, 2);
+      uniform_cells_section(s, "Lines", lines, per_line);
       end_piece(s);
     });
   });

@@ -38,8 +38,14 @@ template <int D>
 Sample<D> load_sample(const std::string& path) {
   World<D> w;
   const ScenarioConfig cfg = load_world(path, w);
-  Sample<D> s = make_sample(
-      w, cfg.sim.solver == "cd" ? ForceGeometry::kContactDynamics : ForceGeometry::kSoft);
+  const ForceGeometry geometry =
+      cfg.sim.solver == "cd" ? ForceGeometry::kContactDynamics : ForceGeometry::kSoft;
+  Sample<D> s;
+  try {
+    s = make_sample(w, geometry);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", path, e.what()));  // make_sample knows no file
+  }
   s.source = path;
   return s;
 }

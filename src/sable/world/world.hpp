@@ -17,6 +17,7 @@
 #include "sable/core/rng.hpp"
 #include "sable/geometry/grain_shapes.hpp"
 #include "sable/geometry/walls.hpp"
+#include "sable/world/contact_geometry.hpp"
 
 namespace sable {
 
@@ -48,6 +49,10 @@ struct World {
   NeighborList<D> neighbors;  // candidate contacts with their history
   LiquidState liquid;
   GrainShapes shapes;  // the polyhedral grains' shapes (3D; empty while every grain is round)
+  // Each list entry's normal, point and depth (world/contact_geometry.hpp): written by the
+  // solvers for polyhedral grains, read by outputs and analyses; empty while every grain is
+  // round. Not part of the state hash: nothing in a step reads it.
+  ContactPoints<D> contact_geometry;
 
   Vec gravity = Vec::Zero();
   double thickness = 1.0;  // 2D out-of-plane depth (m)
