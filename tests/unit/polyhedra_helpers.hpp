@@ -5,7 +5,22 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "sable/world/world.hpp"
+
 namespace sable::test {
+
+// An empty World for grains of size `side` near the origin: cell lists over [-0.2, 0.2]^3 m
+// with a skin of skin_share * side, gravity 9.81 m/s^2 along -z, step dt. The caller adds
+// materials and the model.
+inline World<3> polyhedra_world(double side, double dt, double skin_share = 0.2) {
+  World<3> w;
+  w.neighbors.skin = skin_share * side;
+  w.neighbors.domain_lo.setConstant(-0.2);
+  w.neighbors.domain_hi.setConstant(0.2);
+  w.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+  w.dt = dt;
+  return w;
+}
 
 // The corners of the box [lo, hi], turned by q about `about`.
 inline std::vector<Eigen::Vector3d> box_points(

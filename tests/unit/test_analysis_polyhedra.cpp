@@ -44,25 +44,15 @@ constexpr double kA = 0.01;  // the cube's side (m)
 constexpr double kRho = 2500.0;
 constexpr double kKn = 1e4;  // DEM: N/m per contact point
 
-sable::World<3> base_world(double dt) {
-  sable::World<3> w;
-  w.neighbors.skin = 0.2 * kA;
-  w.neighbors.domain_lo.setConstant(-0.2);
-  w.neighbors.domain_hi.setConstant(0.2);
-  w.gravity = Vec(0.0, 0.0, -kG);
-  w.dt = dt;
-  return w;
-}
-
 sable::World<3> rigid_world() {
-  sable::World<3> w = base_world(1e-4);
+  sable::World<3> w = sable::test::polyhedra_world(kA, 1e-4);
   w.materials.add({"grain", kRho, 0.0, 0.0, 0.0, 0.5, 0.0});
   w.materials.finalize();
   return w;
 }
 
 sable::World<3> soft_world() {
-  sable::World<3> w = base_world(5e-6);
+  sable::World<3> w = sable::test::polyhedra_world(kA, 5e-6);
   w.materials.add({"grain", kRho, 1e7, 0.3, 0.2, 0.5, 0.0});
   w.materials.finalize();
   w.model.normal = sable::NormalLaws::id<sable::LinearNormal>();

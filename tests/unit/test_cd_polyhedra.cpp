@@ -31,14 +31,9 @@ constexpr double kA = 0.01;  // the cube's side (m)
 constexpr double kRho = 2500.0;
 
 sable::World<3> rigid_world(double mu, double dt) {
-  sable::World<3> w;
+  sable::World<3> w = sable::test::polyhedra_world(kA, dt);
   w.materials.add({"grain", kRho, 0.0, 0.0, 0.0, mu, 0.0});
   w.materials.finalize();
-  w.neighbors.skin = 0.2 * kA;
-  w.neighbors.domain_lo.setConstant(-0.2);
-  w.neighbors.domain_hi.setConstant(0.2);
-  w.gravity = Vec(0.0, 0.0, -kG);
-  w.dt = dt;
   return w;
 }
 

@@ -35,17 +35,12 @@ constexpr double kKn = 1e4;  // N/m per contact point
 // Linear law, restitution e, friction mu; dt a fiftieth of a four-point contact's
 // sqrt(m / 4 kn) = 2.5e-4 s.
 sable::World<3> soft_world(double e, double mu, double dt = 5e-6) {
-  sable::World<3> w;
+  sable::World<3> w = sable::test::polyhedra_world(kA, dt, 0.1);
   w.materials.add({"grain", kRho, 1e7, 0.3, e, mu, 0.0});
   w.materials.finalize();
   w.model.normal = sable::NormalLaws::id<sable::LinearNormal>();
   w.model.kn = kKn;
   w.model.kt = 0.8 * kKn;
-  w.neighbors.skin = 0.1 * kA;
-  w.neighbors.domain_lo.setConstant(-0.2);
-  w.neighbors.domain_hi.setConstant(0.2);
-  w.gravity = Vec(0.0, 0.0, -kG);
-  w.dt = dt;
   return w;
 }
 

@@ -188,6 +188,17 @@ TEST(PolyhedronPlane, TetrahedronOnVertexEdgeAndFace) {
   }
 }
 
+// The prism over the regular octagon of unit radius (a corner on the x axis), 0.5 high.
+ConvexPolyhedron octagonal_prism() {
+  std::vector<Vec> points;
+  for (const double z : {-0.25, 0.25})
+    for (int k = 0; k < 8; ++k) {
+      const double t = k * std::numbers::pi / 4;
+      points.emplace_back(std::cos(t), std::sin(t), z);
+    }
+  return ConvexPolyhedron(convex_hull(points, "prism"), "prism");
+}
+
 // A prism on a regular octagon (radius 1, height 1/2), face down 1e-3 into the floor and
 // tilted by 1e-6 so that its corner at angle 0 is the deepest: its 8 bottom corners are within
 // the margin, and the rule keeps 4: the deepest (angle 0), the farthest from it (pi), the
@@ -196,13 +207,7 @@ TEST(PolyhedronPlane, TetrahedronOnVertexEdgeAndFace) {
 // prism on a slab whose top is the floor, reduces the same 8 corners to the same 4 (the
 // slab's face the reference; its rule is this one). 1e-12: a few roundings.
 TEST(PolyhedronPlane, EightCornersReduceToTheSquareOfThePairRule) {
-  std::vector<Vec> points;
-  for (const double z : {-0.25, 0.25})
-    for (int k = 0; k < 8; ++k) {
-      const double t = k * std::numbers::pi / 4;
-      points.emplace_back(std::cos(t), std::sin(t), z);
-    }
-  const ConvexPolyhedron prism(convex_hull(points, "prism"), "prism");
+  const ConvexPolyhedron prism = octagonal_prism();
   ASSERT_EQ(prism.vertices().size(), 16u);
   const Quat q(Eigen::AngleAxisd(1e-6, Vec::UnitY()));
   const Vec at(0.4, -0.3, 0.25 - 1e-3);
@@ -234,13 +239,7 @@ TEST(PolyhedronPlane, EightCornersReduceToTheSquareOfThePairRule) {
 // same. Without it a fast-turning grain in contact dynamics sank by a corner the rule had
 // dropped (docs/contact-dynamics.md).
 TEST(PolyhedronPlane, SpinBringsDownTheCornerKeptFirst) {
-  std::vector<Vec> points;
-  for (const double z : {-0.25, 0.25})
-    for (int k = 0; k < 8; ++k) {
-      const double t = k * std::numbers::pi / 4;
-      points.emplace_back(std::cos(t), std::sin(t), z);
-    }
-  const ConvexPolyhedron prism(convex_hull(points, "prism"), "prism");
+  const ConvexPolyhedron prism = octagonal_prism();
   const Vec at(0.4, -0.3, 0.25 + 0.01);
   const double margin = 0.05, h = 1e-3, w = 20.0;
   const PolyhedronContact still = on_floor(prism, at, kI, margin);
