@@ -2,13 +2,15 @@
 //
 // A polyhedral pair touches at up to 4 points (geometry/polyhedron_contact.hpp: a vertex on a
 // face 1, an edge on a face 2, a face on a face up to 4 from the clipped polygon), a grain on a
-// plane wall likewise (geometry/polyhedron_plane.hpp). Each point is a contact of the
-// frictional contact problem, as in LMGC90: its own frame (the manifold's normal), gap, arms
-// from both centroids and Delassus block with the grains' world-frame inertia tensors. The
-// points of one list entry sit in a row among the contacts; their impulses are stored summed
-// as the entry's force (what outputs, analyses and snapshots read), and that force, shared
-// equally among the next step's points, is their warm start (a guess: the solution is the
-// same whatever it is, only the sweeps needed change).
+// plane wall likewise (geometry/polyhedron_plane.hpp); a pair also gets up to 4 look-ahead
+// points, corners that close on a face within the step (ManifoldMotion). Each point is a
+// contact of the frictional contact problem, as in LMGC90: its own frame (the manifold's
+// normal, or a look-ahead point's face normal), gap, arms from both centroids and Delassus
+// block with the grains' world-frame inertia tensors. The points of one list entry sit in a
+// row among the contacts; their impulses are stored summed as the entry's force (what
+// outputs, analyses and snapshots read), and that force, shared equally among the next
+// step's points, is their warm start (a guess: the solution is the same whatever it is, only
+// the sweeps needed change).
 #include <fmt/format.h>
 
 #include <algorithm>

@@ -130,7 +130,7 @@ class CdSolver final : public Solver {
  private:
   void build_contacts();
   // The contacts of a world with polyhedral grains (cd/cd_polyhedra.cpp): each list entry
-  // gives its manifold's points (up to 4), each point a contact.
+  // gives its manifold's points (up to 4) and look-ahead points (up to 4), each a contact.
   void build_polyhedral_contacts();
   void check_polyhedral_world() const;
   // Each list entry's normal, point and depth into World::contact_geometry, from its
