@@ -238,10 +238,11 @@ void PolyhedralDem::sum_forces() {
     const EntryForce& e = pair_out_[k];
     nl.pairs.force[k] = e.force;
     const std::uint32_t i = nl.pairs.i[k], j = nl.pairs.j[k];
-    geometry.pairs.set(k, e.normal, e.depth == 0.0 ? Vec::Zero() : Vec(e.at - p.x[i]), e.depth);
+    const Vec arm = e.at - p.x[i];
+    geometry.pairs.set(k, e.normal, e.depth == 0.0 ? Vec::Zero() : arm, e.depth);
     if (e.depth == 0.0) continue;
     p.f[i] += e.force;
-    p.t[i] += (e.at - p.x[i]).cross(e.force);
+    p.t[i] += arm.cross(e.force);
     p.f[j] -= e.force;
     p.t[j] -= (e.at - p.x[j]).cross(e.force);
     ++diag_.touching;
@@ -252,11 +253,11 @@ void PolyhedralDem::sum_forces() {
     const EntryForce& e = wall_out_[k];
     nl.wall_pairs.force[k] = e.force;
     const std::uint32_t i = nl.wall_pairs.i[k], wall = nl.wall_pairs.wall[k];
-    geometry.wall_pairs.set(k, e.normal, e.depth == 0.0 ? Vec::Zero() : Vec(e.at - p.x[i]),
-                            e.depth);
+    const Vec arm = e.at - p.x[i];
+    geometry.wall_pairs.set(k, e.normal, e.depth == 0.0 ? Vec::Zero() : arm, e.depth);
     if (e.depth == 0.0) continue;
     p.f[i] += e.force;
-    p.t[i] += (e.at - p.x[i]).cross(e.force);
+    p.t[i] += arm.cross(e.force);
     wall_totals_.add_force(wall, -e.force);
     wall_totals_.add_torque(wall, -(e.at - w_.walls[wall].pivot).cross(e.force));
     ++diag_.touching;

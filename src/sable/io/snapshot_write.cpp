@@ -250,12 +250,15 @@ void write_contact_geometry(h5::File& f, const World<D>& w, const Families& at) 
   const ContactPoints<D>& g = w.contact_geometry;
   if (w.shapes.empty() || !g.matches(w.neighbors.pairs.size(), w.neighbors.wall_pairs.size()))
     return;
-  write_rows(f, "/neighbors/pairs/normal", g.pairs.normal, at.pairs);
-  write_rows(f, "/neighbors/pairs/arm", g.pairs.arm, at.pairs);
-  write_rows(f, "/neighbors/pairs/depth", g.pairs.depth, at.pairs);
-  write_rows(f, "/neighbors/wall_pairs/normal", g.wall_pairs.normal, at.wall_pairs);
-  write_rows(f, "/neighbors/wall_pairs/arm", g.wall_pairs.arm, at.wall_pairs);
-  write_rows(f, "/neighbors/wall_pairs/depth", g.wall_pairs.depth, at.wall_pairs);
+  // As read_contact_geometry() reads them: one set of datasets per list.
+  auto write = [&](const std::string& list, const EntryGeometry<D>& e, const Rows& rows) {
+    const std::string base = "/neighbors/" + list + "/";
+    write_rows(f, base + "normal", e.normal, rows);
+    write_rows(f, base + "arm", e.arm, rows);
+    write_rows(f, base + "depth", e.depth, rows);
+  };
+  write("pairs", g.pairs, at.pairs);
+  write("wall_pairs", g.wall_pairs, at.wall_pairs);
 }
 
 template <int D>
