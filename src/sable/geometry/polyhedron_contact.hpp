@@ -17,10 +17,14 @@
 // > 0 apart by at least that much, < 0 overlapping by at least its magnitude. `separation` is
 // the largest over the axes tested: for overlapping shapes, minus the penetration depth (the
 // shortest translation that parts them); for shapes apart, a lower bound of their distance,
-// and > 0 exactly when they are apart. The axes are tested faces of A, faces of B, then edge
-// pairs, and the test stops at the first family that shows the shapes apart by more than the
-// margin (its best axis then gives the normal): for shapes within the margin every axis is
-// tested, and the answer is the same as without the early stops. For an edge pair the edges
+// and > 0 exactly when they are apart. First a GJK walk towards the closest points (a few
+// axes at O(V_A + V_B) each) looks for an axis that shows the shapes apart by more than the
+// margin; one found settles the pair (its separation and axis are returned, kind and features
+// are left unset), as it does for most candidates of a dense packing, whose bounding spheres
+// overlap while the hulls do not touch. Otherwise the axes are tested faces of A, faces of B,
+// then edge pairs, and the test stops at the first family that shows the shapes apart by more
+// than the margin (its best axis then gives the normal): for shapes within the margin every
+// axis is tested, and the answer is the same as without the early stops. For an edge pair the edges
 // themselves are the extreme points along the axis (that is what the Gauss-map test says), so each
 // pair costs O(1); a face axis takes the other shape's lowest vertex.
 //
@@ -51,7 +55,8 @@
 //  - edge pair: one point, midway between the closest points of the two edges, its gap the
 //    separation.
 //
-// Cost per call: O(F_A V_B + F_B V_A + E_A E_B) for V vertices, E edges, F faces (each face
+// Cost per call: for shapes apart beyond the margin, usually a few GJK steps of O(V_A + V_B);
+// otherwise O(F_A V_B + F_B V_A + E_A E_B) for V vertices, E edges, F faces (each face
 // axis scans the other shape's vertices; every edge pair takes the Gauss-map test), then
 // O(k_I k_R) to clip the incident face (k_I corners) by the reference face (k_R). No heap
 // allocation: the clipped polygon lives in fixed buffers of 2 kMaxFaceCorners points on the
