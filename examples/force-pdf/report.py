@@ -5,17 +5,20 @@ and analyses of examples/force-pdf/run.sh.
 Usage: report.py OUT_DIR [CASE...]   (OUT_DIR = out/force-pdf; every analysed case is reported)
 
 Cases: iso-dem, triaxial-dem (DEM, soft grains) and iso-cd, triaxial-cd (contact dynamics, rigid
-grains: iso-dem's end state relaxed by CD, then compressed by CD). The axial strain of a
+grains: iso-dem's end state relaxed by CD, then compressed by CD); iso-poly-cd (the paper's S3:
+convex polyhedra compacted and relaxed by CD). The axial strain of a
 triaxial case is measured from the end state of its own isotropic case (iso-dem for
 triaxial-dem, iso-cd for triaxial-cd).
 
 Statistics are over the bulk: the region of OUT_DIR/CASE/region (the sample's box less two mean
 diameters on every side, written by run.sh). They are computed here from `sable analyze`'s
-contacts.csv (grain-grain contacts whose contact point, taken at
-r_i / (r_i + r_j) along the branch, lies in the region) and particle_stress.csv (positions and
+contacts.csv (grain-grain contacts whose contact point, contacts.csv's x_c_m..., or
+r_i / (r_i + r_j) along the branch in an older file, lies in the region) and particle_stress.csv (positions and
 radii), with the analysis' own definitions (docs/analysis.md section 1): x = f_n / <f_n>,
 beta = 1 / mean(x - 1) over x > 1 (maximum likelihood, standard error beta / sqrt(n)), the
-fraction with x < 1, P(0) = the density over [0, 0.1). `sable analyze --region` now restricts
+fraction with x < 1, P(0) = the density over [0, 0.1), and the weak forces' power law
+P(x) ~ x^alpha: the least-squares slope of log P against log x over 8 logarithmic bins of
+[0.01, 1) (alpha < 0: a density that decreases, the paper's S3). `sable analyze --region` now restricts
 its force PDF to the same contacts (grain-grain, point in the region), so its values (reported
 as "whole_sample_cli", the name kept for the file's readers) agree with the bulk ones here;
 its coordination is still over the whole sample, hence bulk_coordination below. Debian's numpy and matplotlib only.
@@ -35,18 +38,22 @@ import matplotlib.pyplot as plt  # noqa: E402
 PAPER = {
     "beta": 1.4,
     "fraction_below_mean_min": 0.60,
+    "beta_polyhedra": 0.97,
     "notes": "Richefeu et al. 2009, section 3: beta ~ 1.4 for MD and CD isotropic samples and "
     "nearly unchanged after triaxial compression; > 60 % of the forces below the mean; "
     "isotropic: a small peak slightly below the mean and a finite P(0); anisotropic: the peak "
-    "disappears and the weak forces become nearly uniform.",
+    "disappears and the weak forces become nearly uniform. Polyhedra (S3, CD, isotropic, "
+    "Fig. 4): beta = 0.97 and a decreasing power law for the weak forces.",
 }
-KNOWN = ["iso-dem", "triaxial-dem", "iso-cd", "triaxial-cd", "wet-0pa", "wet-100pa"]
+KNOWN = ["iso-dem", "triaxial-dem", "iso-cd", "triaxial-cd", "iso-poly-cd", "s3-cd", "wet-0pa",
+         "wet-100pa"]
 # The isotropic state each triaxial case starts from: its axial-strain reference.
 ISO_OF = {"triaxial-dem": "iso-dem", "triaxial-cd": "iso-cd"}
 COLORS = {"iso-dem": "tab:blue", "triaxial-dem": "tab:red", "iso-cd": "tab:cyan",
-          "triaxial-cd": "tab:orange"}
+          "triaxial-cd": "tab:orange", "iso-poly-cd": "tab:green", "s3-cd": "tab:olive"}
 LABELS = {"iso-dem": "isotropic, DEM", "triaxial-dem": "anisotropic (triaxial), DEM",
-          "iso-cd": "isotropic, CD", "triaxial-cd": "anisotropic (triaxial), CD"}
+          "iso-cd": "isotropic, CD", "triaxial-cd": "anisotropic (triaxial), CD",
+          "iso-poly-cd": "polyhedra, isotropic, CD", "s3-cd": "20,000 polyhedra (S3), CD"}
 P0_WINDOW = 0.1
 P_M = 100.0  # Pa, the confining pressure of the dry cases
 
@@ -83,10 +90,13 @@ def bulk_contacts(adir, region):
         raise SystemExit(f"{adir}: contacts.csv's grain slots do not match the rows of "
                          "particle_stress.csv")
     lo, hi = region
-    xe = np.stack([c["x_end_m"], c["y_end_m"], c["z_end_m"]], axis=1)
-    partner = np.where(grain, j, 0)  # a wall's row names the wall: any grain will do there
-    share = np.where(grain, r[i] / (r[i] + r[partner]), 0.0)
-    point = xi + share[:, None] * (xe - xi)
+    if "x_c_m" in c:
+        point = np.stack([c["x_c_m"], c["y_c_m"], c["z_c_m"]], axis=1)
+    else:
+        xe = np.stack([c["x_end_m"], c["y_end_m"], c["z_end_m"]], axis=1)
+        partner = np.where(grain, j, 0)  # a wall's row names the wall: any grain will do there
+        share = np.where(grain, r[i] / (r[i] + r[partner]), 0.0)
+        point = xi + share[:, None] * (xe - xi)
     inside = np.all((point >= lo) & (point <= hi), axis=1)
     return c, grain, inside, x, r, i, j
 
@@ -101,6 +111,12 @@ def force_stats(fn):
     weak, _ = np.histogram(x, bins=weak_edges)
     weak = weak / (len(x) * np.diff(weak_edges))
     peak = int(np.argmax(weak))
+    log_edges = np.logspace(-2, 0, 9)
+    counts, _ = np.histogram(x, bins=log_edges)
+    dens = counts / (len(x) * np.diff(log_edges))
+    centre = np.sqrt(log_edges[1:] * log_edges[:-1])
+    ok = counts > 0
+    alpha = float(np.polyfit(np.log(centre[ok]), np.log(dens[ok]), 1)[0]) if ok.sum() > 2 else None
     return {
         "contacts": int(len(x)),
         "mean_force_N": float(fn.mean()),
@@ -116,6 +132,8 @@ def force_stats(fn):
         "weak_peak_at": float(0.5 * (weak_edges[peak] + weak_edges[peak + 1])),
         "weak_peak_over_p0": float(weak[peak] / weak[0]) if weak[0] > 0 else None,
         "weak_flatness_below_mean": float(weak[:10].min() / weak[:10].max()),
+        "weak_power_law_exponent": alpha,
+        "weak_log_pdf": [[float(c), float(d)] for c, d in zip(centre[ok], dens[ok])],
         "x": x,
     }
 
@@ -194,7 +212,9 @@ def report_case(out, name, iso_series):
 
 
 def figure(out, xs, results):
-    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.3))
+    tri = [n for n in results if n.startswith("triaxial")]
+    fig, axes = plt.subplots(1, 3 if tri else 2, figsize=(16 if tri else 11, 4.3))
+    a, w = axes[0], axes[1]
     for name, x in xs.items():
         edges = np.linspace(0, 7, 36)
         h, _ = np.histogram(x, bins=edges)
@@ -211,14 +231,27 @@ def figure(out, xs, results):
         xt = np.linspace(1, 7, 50)
         frac = 1 - bk["fraction_below_mean"]
         a.semilogy(xt, frac * bk["beta_mle"] * np.exp(-bk["beta_mle"] * (xt - 1)), "-", color=col)
+        lw = np.array(bk["weak_log_pdf"])
+        if len(lw):
+            alpha = bk["weak_power_law_exponent"]
+            w.loglog(lw[:, 0], lw[:, 1], "o-" if name.endswith("dem") else "s-", ms=4, color=col,
+                     mfc=col if name.endswith("dem") else "none",
+                     label=f"{label}: alpha = {alpha:.2f}" if alpha is not None else label)
     xt = np.linspace(1, 7, 50)
     a.semilogy(xt, 0.38 * 1.4 * np.exp(-1.4 * (xt - 1)), "k:", label="slope of the paper's beta = 1.4")
+    if any("poly" in n for n in xs):
+        a.semilogy(xt, 0.36 * 0.97 * np.exp(-0.97 * (xt - 1)), "k--",
+                   label="slope of the paper's beta = 0.97 (polyhedra)")
+    w.set_xlabel("f_n / <f_n>")
+    w.set_ylabel("P(f_n / <f_n>)")
+    w.set_title("weak forces, bulk: P ~ x^alpha over [0.01, 1)")
+    w.legend(fontsize=8)
     a.set_xlabel("f_n / <f_n>")
     a.set_ylabel("P(f_n / <f_n>)")
     a.set_title("normal forces, bulk (2 <d> from the walls)")
     a.legend(fontsize=8)
-    tri = [n for n in results if n.startswith("triaxial")]
     if tri:
+        b = axes[2]
         b2 = b.twinx()
         for n in tri:
             eps, qp, phi = results[n]["box"].pop("curve")
@@ -253,13 +286,16 @@ def main():
     json.dump({"paper": PAPER, "cases": results}, open(os.path.join(out, "summary.json"), "w"),
               indent=2)
     print(f"{'case':14s} {'beta (bulk)':>13s} {'beta (all)':>10s} {'f<<f>':>6s} {'P(0)':>5s} "
-          f"{'z':>5s} {'z*':>5s} {'peak at':>7s} {'flat':>5s} {'phi':>6s} {'run s':>6s}")
+          f"{'z':>5s} {'z*':>5s} {'peak at':>7s} {'flat':>5s} {'alpha':>6s} {'phi':>6s} "
+          f"{'run s':>6s}")
     for n, r in results.items():
         b, z, w = r["bulk"], r["bulk_coordination"], r["whole_sample_cli"]
         print(f"{n:14s} {b['beta_mle']:6.2f} +-{b['beta_mle_stderr']:4.2f} {w['beta_mle']:10.2f} "
               f"{b['fraction_below_mean']:6.2f} {b['p0']:5.2f} {z['z']:5.2f} "
               f"{z['z_without_rattlers']:5.2f} {b['weak_peak_at']:7.2f} "
-              f"{b['weak_flatness_below_mean']:5.2f} {r['box']['solid_fraction']:6.3f} "
+              f"{b['weak_flatness_below_mean']:5.2f} "
+              f"{b['weak_power_law_exponent'] if b['weak_power_law_exponent'] is not None else float('nan'):6.2f} "
+              f"{r['box']['solid_fraction']:6.3f} "
               f"{r['run_seconds']:6.1f}")
         if "axial_strain" in r["box"] and "max_rel_error_sigma_xx_after_1pct" not in r["box"]:
             bx = r["box"]
@@ -273,12 +309,12 @@ def main():
                   f"at {100 * bx['q_over_p_peak_at_strain']:.1f} %, end {bx['q_over_p_end']:.3f}; "
                   f"lateral stress within {100 * bx['max_rel_error_sigma_xx_after_1pct']:.1f} / "
                   f"{100 * bx['max_rel_error_sigma_yy_after_1pct']:.1f} % of p_m")
-    print(f"paper: beta ~ {PAPER['beta']}, fraction below the mean > "
-          f"{PAPER['fraction_below_mean_min']:.0%}")
+    print(f"paper: beta ~ {PAPER['beta']} (spheres), {PAPER['beta_polyhedra']} (polyhedra, S3), "
+          f"fraction below the mean > {PAPER['fraction_below_mean_min']:.0%}")
     print("bulk: 2 <d> from the walls; all: sable analyze's own (every contact in analyses made "
           "before --region applied to force PDFs, the bulk since); z* without rattlers;")
     print("peak at: where the PDF is highest in bins of 0.1; flat: its lowest over highest bin "
-          "below the mean")
+          "below the mean; alpha: the weak forces' P ~ x^alpha over [0.01, 1)")
     print(f"wrote {os.path.join(out, 'summary.json')} and {fig}")
 
 

@@ -11,12 +11,17 @@
 #   force-pdf.png          normal-force PDFs f / <f> on lin-log axes with the exponential fits
 # Usage: examples/force-pdf/run.sh [quick | full | CASE...]
 #   quick         the dry DEM study: iso-dem then triaxial-dem (~3 minutes on one core)
-#   full          every case: iso-dem, triaxial-dem, iso-cd, triaxial-cd, wet (~9 minutes)
+#   full          every case: iso-dem, triaxial-dem, iso-cd, triaxial-cd, wet, iso-poly-cd
+#                 (~30 minutes)
 #   CASE          iso-dem, triaxial-dem (triaxial-dem resumes from iso-dem's end state, which
 #                 must exist); wet (wet.toml: the unconfined and confined wet packings,
 #                 out/force-pdf/wet/{summary.json, wet.png}); iso-cd (contact dynamics:
 #                 iso-dem's end state relaxed with rigid grains, needs iso-dem), triaxial-cd
-#                 (CD triaxial compression of iso-cd's end state, needs iso-cd)
+#                 (CD triaxial compression of iso-cd's end state, needs iso-cd); iso-poly-cd
+#                 (the paper's S3: 1,000 polyhedra compacted by CD, iso-poly-prep.toml,
+#                 then relaxed by CD, iso-poly-cd.toml; ~16 minutes); s3 (the same at the
+#                 paper's 20,000 polyhedra, s3-prep.toml then s3-cd.toml: about 7 hours on
+#                 one core, estimated; not in full)
 # Environment: SABLE (the sable binary, default build/release/bin/sable, built if missing),
 # SABLE_THREADS (OpenMP threads per run, default 1), SABLE_OUT (the output root, default out).
 set -euo pipefail
@@ -24,10 +29,10 @@ cd "$(dirname "$0")/../.."
 mode="${1:-quick}"
 case "$mode" in
   quick) cases="iso-dem triaxial-dem" ;;
-  full) cases="iso-dem triaxial-dem iso-cd triaxial-cd wet" ;;
-  iso-dem | triaxial-dem | iso-cd | triaxial-cd | wet) cases="$*" ;;
+  full) cases="iso-dem triaxial-dem iso-cd triaxial-cd wet iso-poly-cd" ;;
+  iso-dem | triaxial-dem | iso-cd | triaxial-cd | wet | iso-poly-cd | s3) cases="$*" ;;
   *)
-    echo "usage: $0 [quick | full | iso-dem triaxial-dem iso-cd triaxial-cd wet]" >&2
+    echo "usage: $0 [quick | full | iso-dem triaxial-dem iso-cd triaxial-cd wet iso-poly-cd s3]" >&2
     exit 2
     ;;
 esac
@@ -128,6 +133,27 @@ case_iso_cd() {
 case_triaxial_cd() {
   resumed_case triaxial-cd "$here/triaxial-cd.toml" \
     "$out/iso-cd/snapshots/end_of_stage_2.h5" 3 iso-cd
+}
+
+# The polyhedra (the paper's S3): a packing compacted by CD with a short NLGS
+# (iso-poly-prep.toml), then relaxed by CD with a longer one (iso-poly-cd.toml), analysed.
+# The margin: two diameters of the sphere of a grain's mean volume, <d_v> = 0.87 mm (solid
+# fraction 0.537 of the final 8.6 mm box over 1,000 grains), not of its bounding sphere: the
+# hulls hold about a fifth of their bounding spheres' volume, and 3 mm would leave a bulk of
+# 2.6 mm (35 contacts).
+case_iso_poly_cd() {
+  local margin=0.00175
+  run_scenario iso-poly-prep "$here/iso-poly-prep.toml"
+  resumed_case iso-poly-cd "$here/iso-poly-cd.toml" \
+    "$out/iso-poly-prep/snapshots/end_of_stage_1.h5" 2 iso-poly-prep
+}
+
+# S3 at the paper's size: the same two scenarios with 20,000 grains (the same grains, so the
+# same margin).
+case_s3() {
+  local margin=0.00175
+  run_scenario s3-prep "$here/s3-prep.toml"
+  resumed_case s3-cd "$here/s3-cd.toml" "$out/s3-prep/snapshots/end_of_stage_1.h5" 2 s3-prep
 }
 
 # The wet study (wet.toml): one run, the unconfined state at the end of stage 3 (0 Pa, S6) and

@@ -4,10 +4,14 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <Eigen/Core>
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "run_helpers.hpp"
 #include "sable/io/snapshot.hpp"
@@ -47,6 +51,38 @@ std::string small_run(const std::string& solver, const std::string& out) {
     << "\"\ncsv_interval = 0\nsnapshot_interval = " << (cd ? 100 : 1000)
     << "\nvtk_interval = 0\nlog_interval = 0\n";
   return s.str();
+}
+
+// contacts.csv's contact point (x_c_m, y_c_m, z_c_m) for round grains: on the segment between
+// the two centres for a grain pair (their distances to it add up to the centres' distance, to
+// 1e-12 relative: rounding of a few additions), the wall's contact point for a wall row. Returns
+// the grain-pair rows checked.
+int check_contact_points(const fs::path& csv) {
+  std::istringstream in(read(csv));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> head;
+  for (std::istringstream h(line); std::getline(h, line, ',');) head.push_back(line);
+  const auto col = [&](const std::string& name) {
+    const auto it = std::find(head.begin(), head.end(), name);
+    EXPECT_NE(it, head.end()) << name;
+    return static_cast<std::size_t>(it - head.begin());
+  };
+  const std::size_t wall = col("wall"), xi = col("x_i_m"), xe = col("x_end_m"), xc = col("x_c_m");
+  int pairs = 0;
+  while (std::getline(in, line)) {
+    std::vector<double> v;
+    for (std::istringstream r(line); std::getline(r, line, ',');) v.push_back(std::stod(line));
+    const Eigen::Vector3d a(v[xi], v[xi + 1], v[xi + 2]), e(v[xe], v[xe + 1], v[xe + 2]),
+        c(v[xc], v[xc + 1], v[xc + 2]);
+    if (v[wall] != 0.0) {
+      EXPECT_LE((c - e).norm(), 1e-15) << line;
+      continue;
+    }
+    ++pairs;
+    EXPECT_NEAR((c - a).norm() + (e - c).norm(), (e - a).norm(), 1e-12 * (e - a).norm()) << line;
+  }
+  return pairs;
 }
 
 // Both solvers: every analysis writes its table and figure; the summary has each section.
@@ -90,6 +126,7 @@ TEST(AnalyzeCli, EveryAnalysisWritesNumbersAndFigures) {
                             "\"particle_stress\"", "\"stress\"", "\"walls\"", "\"percolation\"",
                             "\"fields\"", "\"beta_mle\"", "\"love_weber\""})
       EXPECT_NE(summary.find(key), std::string::npos) << key;
+    EXPECT_GT(check_contact_points(dir / "an" / "contacts.csv"), 5);  // 8 by DEM, 16 by CD
     EXPECT_EQ(read(snap), before);  // the analysed snapshot is untouched
     // Several snapshots: averaged, with a per-snapshot series.
     const std::string all = (dir / "run" / "snapshots" / "step_*.h5").string();

@@ -24,7 +24,8 @@ std::string file_safe(const std::string& name) {
 }
 
 // One row per force-carrying contact: the network a figure draws (centre to centre, or centre
-// to the contact point for walls), with the normal force and the mobilisation |ft| / (mu fn).
+// to the contact point for walls), the contact point, the normal force and the mobilisation
+// |ft| / (mu fn).
 template <int D>
 Table contact_table(const Sample<D>& s) {
   static constexpr const char* axes = "xyz";
@@ -45,6 +46,11 @@ Table contact_table(const Sample<D>& s) {
     add(fmt::format("{}_end_m", axes[d]), [&](std::size_t k) {
       return c.is_wall(k) ? s.x[c.i[k]][d] + c.arm_i[k][d] : s.x[c.j[k]][d];
     });
+  // The contact point (grain i's centre plus its arm): where a polyhedral pair touches, off
+  // the line of centres; a bulk region selects contacts by it.
+  for (int d = 0; d < D; ++d)
+    add(fmt::format("{}_c_m", axes[d]),
+        [&](std::size_t k) { return s.x[c.i[k]][d] + c.arm_i[k][d]; });
   add("fn_N", [&](std::size_t k) { return c.fn[k]; });
   add("ft_N", [&](std::size_t k) { return c.ft[k].norm(); });
   add("mobilisation", [&](std::size_t k) {
