@@ -20,13 +20,14 @@
 // and > 0 exactly when they are apart. First a GJK walk towards the closest points (a few
 // axes at O(V_A + V_B) each) looks for an axis that shows the shapes apart by more than the
 // margin; one found settles the pair (its separation and axis are returned, kind and features
-// are left unset), as it does for most candidates of a dense packing, whose bounding spheres
-// overlap while the hulls do not touch. Otherwise the axes are tested faces of A, faces of B,
-// then edge pairs, and the test stops at the first family that shows the shapes apart by more
-// than the margin (its best axis then gives the normal): for shapes within the margin every
-// axis is tested, and the answer is the same as without the early stops. For an edge pair the edges
-// themselves are the extreme points along the axis (that is what the Gauss-map test says), so each
-// pair costs O(1); a face axis takes the other shape's lowest vertex.
+// keep their defaults), as it does for most candidates of a dense packing, whose bounding
+// spheres overlap while the hulls do not touch. Otherwise the axes are tested faces of A,
+// faces of B, then edge pairs, and the test stops at the first family that shows the shapes
+// apart by more than the margin (its best axis then gives the normal): for shapes within the
+// margin every axis is tested, and the answer is the same as without the early stops. For an
+// edge pair the edges themselves are the extreme points along the axis (that is what the
+// Gauss-map test says), so each pair costs O(1); a face axis takes the other shape's lowest
+// vertex.
 //
 // Axis preference. Near a resting contact a face axis and an edge axis (or a face of each
 // shape) can be equally good within rounding, or nearly so under a slight tilt, and choosing
