@@ -5,13 +5,10 @@
 #include <sys/wait.h>
 
 #include <Eigen/Core>
-#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <string>
-#include <vector>
 
 #include "run_helpers.hpp"
 #include "sable/io/snapshot.hpp"
@@ -58,29 +55,24 @@ std::string small_run(const std::string& solver, const std::string& out) {
 // 1e-12 relative: rounding of a few additions), the wall's contact point for a wall row. Returns
 // the grain-pair rows checked.
 int check_contact_points(const fs::path& csv) {
-  std::istringstream in(read(csv));
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> head;
-  for (std::istringstream h(line); std::getline(h, line, ',');) head.push_back(line);
-  const auto col = [&](const std::string& name) {
-    const auto it = std::find(head.begin(), head.end(), name);
-    EXPECT_NE(it, head.end()) << name;
-    return static_cast<std::size_t>(it - head.begin());
+  auto c = sable::test::read_csv_columns(csv);
+  for (const char* name : {"wall", "x_i_m", "x_end_m", "x_c_m"})
+    EXPECT_EQ(c.count(name), 1u) << name;
+  const auto at = [&](const char* x, const char* y, const char* z, std::size_t k) {
+    return Eigen::Vector3d(c[x][k], c[y][k], c[z][k]);
   };
-  const std::size_t wall = col("wall"), xi = col("x_i_m"), xe = col("x_end_m"), xc = col("x_c_m");
   int pairs = 0;
-  while (std::getline(in, line)) {
-    std::vector<double> v;
-    for (std::istringstream r(line); std::getline(r, line, ',');) v.push_back(std::stod(line));
-    const Eigen::Vector3d a(v[xi], v[xi + 1], v[xi + 2]), e(v[xe], v[xe + 1], v[xe + 2]),
-        c(v[xc], v[xc + 1], v[xc + 2]);
-    if (v[wall] != 0.0) {
-      EXPECT_LE((c - e).norm(), 1e-15) << line;
+  for (std::size_t k = 0; k < c["wall"].size(); ++k) {
+    const Eigen::Vector3d a = at("x_i_m", "y_i_m", "z_i_m", k),
+                          e = at("x_end_m", "y_end_m", "z_end_m", k),
+                          p = at("x_c_m", "y_c_m", "z_c_m", k);
+    if (c["wall"][k] != 0.0) {
+      EXPECT_LE((p - e).norm(), 1e-15) << "row " << k;
       continue;
     }
     ++pairs;
-    EXPECT_NEAR((c - a).norm() + (e - c).norm(), (e - a).norm(), 1e-12 * (e - a).norm()) << line;
+    EXPECT_NEAR((p - a).norm() + (e - p).norm(), (e - a).norm(), 1e-12 * (e - a).norm())
+        << "row " << k;
   }
   return pairs;
 }
