@@ -273,6 +273,9 @@ def figure(out, xs, results):
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "out/force-pdf"
     names = [n for n in KNOWN if os.path.exists(os.path.join(out, n, "analysis", "summary.json"))]
+    if not names:  # run.sh wet alone: wet_report.py has reported it
+        print(f"no dry case analysed under {out}: no dry summary")
+        return
     iso_series = {}
     for iso in set(ISO_OF.values()):
         if os.path.exists(os.path.join(out, iso, "series.csv")):

@@ -23,7 +23,9 @@
 #                 paper's 20,000 polyhedra, s3-prep.toml then s3-cd.toml: about 7 hours on
 #                 one core, estimated; not in full)
 # Environment: SABLE (the sable binary, default build/release/bin/sable, built if missing),
-# SABLE_THREADS (OpenMP threads per run, default 1), SABLE_OUT (the output root, default out).
+# SABLE_THREADS (OpenMP threads per run, default 1), SABLE_OUT (the output root, default out),
+# SABLE_WET_RESUME (wet only: a snapshot at the end of wet.toml's stage 1 to continue from,
+# instead of compacting; wet-variants.sh uses it for other preparations).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 mode="${1:-quick}"
@@ -160,7 +162,7 @@ case_s3() {
 # the confined one at the end of stage 4 (100 Pa, S7), each analysed with f0 = kappa R_max as
 # the reference force; wet_report.py writes wet/summary.json and wet/wet.png.
 case_wet() {
-  run_scenario wet "$here/wet.toml"
+  run_scenario wet "$here/wet.toml" "${SABLE_WET_RESUME:-}"
   local f0 label snap
   f0=$(/usr/bin/python3 -c "import math; print(2 * math.pi * 0.0728 * 1.0e-3)")
   for label in 0pa 100pa; do

@@ -59,14 +59,23 @@ def truncated_rate(mean):
     return 0.5 * (lo + hi)
 
 
+def mean_or_none(v):
+    return float(v.mean()) if v.size else None
+
+
 def state(out, label):
     adir = os.path.join(out, "wet", f"analysis-{label}")
     cli = json.load(open(os.path.join(adir, "summary.json")))
     region = read_region(os.path.join(out, "wet", f"region-{label}"))
     c, grain, inside, x, r, i, j = bulk_contacts(adir, region)
     f0 = 2 * np.pi * GAMMA * r.max()
-    fn = c["fn_N"][grain & inside]
+    sel = grain & inside
+    fn = c["fn_N"][sel]
     xc, xt = fn[fn > 0] / f0, -fn[fn < 0] / f0
+    # A tensile bond is a bridge between touching grains whose attraction exceeds the elastic
+    # repulsion, or a bridge across a gap (the pure capillary force kappa R e^(-gap / lambda)).
+    gap = np.linalg.norm(x[i[sel]] - x[j[sel]], axis=1) - r[i[sel]] - r[j[sel]]
+    at_gap = gap[fn < 0] > 0
     g = read_columns(os.path.join(adir, "particle_stress.csv"))
     p0 = f0 / (2 * r.mean()) ** 2
     pin = np.all((x >= region[0]) & (x <= region[1]), axis=1)
@@ -79,6 +88,10 @@ def state(out, label):
         "bulk_contacts": int(len(fn)),
         "compressive": int(len(xc)),
         "tensile": int(len(xt)),
+        "tensile_at_gaps_fraction": float(at_gap.mean()),
+        "tensile_mean_at_gaps_over_f0": mean_or_none(xt[at_gap]),
+        "tensile_mean_at_contacts_over_f0": mean_or_none(xt[~at_gap]),
+        "compressive_mean_over_f0": float(xc.mean()),
         "alpha_w_compressive": float(1 / xc.mean()),
         "alpha_w_compressive_stderr": float(1 / xc.mean() / np.sqrt(len(xc))),
         "alpha_w_tensile": float(truncated_rate(xt.mean())),
@@ -169,9 +182,13 @@ def main():
             ("largest compressive / f0", "max_compressive_over_f0", "~2"),
             ("z", "z", "6.1"), ("z compressive", "z_compressive", "2.97"),
             ("z tensile", "z_tensile", "3.13"),
+            ("tensile bonds at a gap (frac.)", "tensile_at_gaps_fraction", ""),
+            ("mean |f_n| / f0 at gaps", "tensile_mean_at_gaps_over_f0", ""),
+            ("mean |f_n| / f0 at contacts", "tensile_mean_at_contacts_over_f0", ""),
             ("positive pressures (frac.)", "pressure_positive_fraction", "~0.5")]
+    num = lambda v: f"{v:8.2f}" if v is not None else f"{'-':>8s}"  # noqa: E731
     for label, key, paper in rows:
-        print(f"{label:28s} {s0[key]:8.2f} {s100[key]:8.2f} {paper:>13s}")
+        print(f"{label:28s} {num(s0[key])} {num(s100[key])} {paper:>13s}")
     for label, key in (("positive phase percolates", "positive_phase_percolates"),
                        ("negative phase percolates", "negative_phase_percolates")):
         fmt = lambda p: "".join(a for a in "xyz" if p[a]) or "no"  # noqa: E731

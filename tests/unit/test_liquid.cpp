@@ -114,6 +114,43 @@ TEST(Wetting, PolydisperseSharesFollowTheReducedDiameter) {
   check_distribution(w, res.volume);
 }
 
+// liquid_pairs = "contacts": equal spheres A-B touching, B-C 20 um apart (within reach of any
+// share, as above), C-D touching: only A-B and C-D get a bridge, V/2 each (exact shares of
+// two equal terms: 1e-15), B-C stays dry; a chain with no touching pair is refused.
+TEST(Wetting, ContactsOnlyBridgesTheTouchingPairs) {
+  const double r = 1e-3;
+  World<3> w;
+  build(chain({r, r, r, r}, {-1e-9, 2e-5, -1e-9}), w);
+  const WettingResult res = wet_grains(w, 0.01, 1000.0, LiquidPairs::kContacts);
+  EXPECT_EQ(res.bridges, 2u);
+  EXPECT_EQ(res.contacts, 2u);
+  EXPECT_LE(res.debonding_distance, 0.0) << "no bridge at a gap";
+  const auto& pl = w.neighbors.pairs;
+  std::size_t bridged = 0;
+  for (std::size_t k = 0; k < pl.size(); ++k) {
+    if (gap_of(w, k) > 0.0) {
+      EXPECT_LT(pl.bridge[k], 0.0) << "pair " << k << " is apart: no bridge";
+    } else {
+      EXPECT_NEAR(pl.bridge[k], 0.5 * res.volume, 1e-15 * res.volume);
+      ++bridged;
+    }
+  }
+  EXPECT_EQ(bridged, 2u);
+  EXPECT_GE(w.neighbors.skin, res.max_rupture) << "a bridged pair must stay in the list";
+  // The default rule bridges B-C too: the option is what changes the set.
+  World<3> all;
+  build(chain({r, r, r, r}, {-1e-9, 2e-5, -1e-9}), all);
+  EXPECT_EQ(wet_grains(all, 0.01, 1000.0).bridges, 3u);
+  World<3> apart;
+  build(chain({r, r}, {2e-5}), apart);
+  try {
+    wet_grains(apart, 0.01, 1000.0, LiquidPairs::kContacts);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("touching"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Wetting, RefusesADryLawAndASampleWithNoClosePairs) {
   World<3> dry;
   build(chain({1e-3, 1e-3}, {-1e-9}, "none"), dry);
@@ -157,6 +194,16 @@ TEST(Wetting, ScenarioErrorsNameTheKey) {
       with(chain({1e-3, 1e-3}, {-1e-9}, "none"), "steps = 1", "steps = 1\nwater_content = 0.007"),
       "water_content");
   expect_parse_error(with(ok, "steps = 1", "steps = 1\nliquid_density = 1000.0"), "liquid_density");
+  expect_parse_error(with(ok, "steps = 1", "steps = 1\nliquid_pairs = \"contacts\""),
+                     "liquid_pairs");
+  expect_parse_error(
+      with(ok, "steps = 1", "steps = 1\nwater_content = 0.007\nliquid_pairs = \"gaps\""),
+      "liquid_pairs");
+  EXPECT_TRUE(parse_scenario(with(ok, "steps = 1",
+                                  "steps = 1\nwater_content = 0.007\nliquid_pairs = \"contacts\""),
+                             "w")
+                  .stages[0]
+                  .liquid_at_contacts_only);
   expect_parse_error(with(ok, "steps = 1", "steps = 1\nwater_content = -0.1"), "water_content");
   expect_parse_error(
       with(ok, "cohesion = \"capillary\"", "cohesion = \"capillary\"\ncontact_angle = 120.0"),

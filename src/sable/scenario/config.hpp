@@ -182,10 +182,12 @@ struct StageConfig {
   double servo_wall_mass = 0.0;
   std::optional<double> stress_tolerance;
   // Wetting (world/liquid.hpp), at the start of the stage: gravimetric water content (kg
-  // of liquid per kg of grains) distributed as bridges over the eligible pairs.
+  // of liquid per kg of grains) distributed as bridges over the eligible pairs, or over the
+  // touching pairs only (liquid_pairs = "contacts").
   std::optional<double> water_content;
   double liquid_density = 1000.0;  // kg/m^3
-  double stress_scale = 0.0;       // Pa; 0: not given
+  bool liquid_at_contacts_only = false;
+  double stress_scale = 0.0;  // Pa; 0: not given
   SourceLoc loc;
 };
 

@@ -432,7 +432,7 @@ StageConfig parse_stage(const Table& s, std::size_t index, const std::vector<std
   s.check_keys({"name", "steps", "kinetic_energy_below", "max_steps", "check_interval",
                 "wall_velocity", "wall_rotation", "wall_stress", "servo_gain", "servo_max_velocity",
                 "stress_tolerance", "stress_scale", "water_content", "liquid_density",
-                "kinetic_energy_of", "servo_wall_mass", "viscous_damping"});
+                "liquid_pairs", "kinetic_energy_of", "servo_wall_mass", "viscous_damping"});
   const bool cd = cfg.sim.solver == "cd";
   StageConfig st;
   st.name = s.string("name").value_or("stage" + std::to_string(index));
@@ -466,10 +466,14 @@ StageConfig parse_stage(const Table& s, std::size_t index, const std::vector<std
   if (cd && st.viscous_damping > 0.0)
     s.fail("viscous_damping", "0 with solver = \"cd\" (contact dynamics dissipates by itself)");
   st.water_content = s.number("water_content", kPositive);
-  if (st.water_content)
+  if (st.water_content) {
     st.liquid_density = s.number_or("liquid_density", kPositive, st.liquid_density);
-  else
+    st.liquid_at_contacts_only =
+        s.choice("liquid_pairs", {"eligible", "contacts"}, "eligible") == "contacts";
+  } else {
     s.reject("liquid_density", "to a stage without water_content");
+    s.reject("liquid_pairs", "to a stage without water_content");
+  }
   st.loc = s.loc();
   return st;
 }

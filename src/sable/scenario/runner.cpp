@@ -316,15 +316,17 @@ void Simulation<D>::start_stage() {
 template <int D>
 void Simulation<D>::wet() {
   const StageConfig& st = cfg_.stages[pos_.stage];
+  const LiquidPairs pairs =
+      st.liquid_at_contacts_only ? LiquidPairs::kContacts : LiquidPairs::kEligible;
   WettingResult r;
   if (domain_->distributed()) {
     World<D> all;
     domain_->gather_everywhere(world_, all);
-    r = wet_grains(all, *st.water_content, st.liquid_density);
+    r = wet_grains(all, *st.water_content, st.liquid_density, pairs);
     world_ = std::move(all);
     domain_->scatter(world_);
   } else {
-    r = wet_grains(world_, *st.water_content, st.liquid_density);
+    r = wet_grains(world_, *st.water_content, st.liquid_density, pairs);
   }
   solver_->initialize();
   progress_.message(fmt::format(

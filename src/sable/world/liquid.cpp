@@ -18,13 +18,15 @@ struct Eligible {
 };
 
 // The largest self-consistent eligible set (see liquid.hpp): a prefix of the pairs sorted by
-// key = (max(gap, 0) / (1 + theta/2))^3 / d.
+// key = (max(gap, 0) / (1 + theta/2))^3 / d. Touching pairs have key 0 and come first, so
+// the contacts alone are the prefix of keys 0.
 Eligible eligible_prefix(const std::vector<std::size_t>& order, const std::vector<double>& key,
-                         const std::vector<double>& share, double volume) {
+                         const std::vector<double>& share, double volume, LiquidPairs pairs) {
   Eligible e;
   double sum = 0.0;
   for (std::size_t m = 0; m < order.size(); ++m) {
     const std::size_t k = order[m];
+    if (pairs == LiquidPairs::kContacts && key[k] > 0.0) break;
     sum += share[k];
     if (key[k] * sum > volume) break;  // key_k <= V / S, without dividing
     e = {m + 1, sum};
@@ -66,7 +68,8 @@ void candidates(const World<D>& w, std::vector<double>& gap, std::vector<double>
 }  // namespace
 
 template <int D>
-WettingResult wet_grains(World<D>& w, double water_content, double liquid_density) {
+WettingResult wet_grains(World<D>& w, double water_content, double liquid_density,
+                         LiquidPairs pairs) {
   if (w.model.cohesion != CohesionModel::kCapillary)
     throw InputError("wetting the grains needs contact.cohesion = \"capillary\"");
   auto& p = w.particles;
@@ -88,12 +91,12 @@ WettingResult wet_grains(World<D>& w, double water_content, double liquid_densit
     if (round == 0 || nl.pairs.bridge.size() != nl.pairs.size() || nl.needs_rebuild(p, w.walls))
       nl.build(p, w.walls);
     candidates(w, gap, share, key, order);
-    e = eligible_prefix(order, key, share, r.volume);
+    e = eligible_prefix(order, key, share, r.volume, pairs);
     if (e.count == 0)
       throw InputError(fmt::format(
-          "wetting: no pair of grains is close enough to hold a bridge ({} candidate pairs "
-          "within the neighbour skin {:.4g} m); wet a packed sample",
-          nl.pairs.size(), nl.skin));
+          "wetting: no pair of grains is {} to hold a bridge ({} candidate pairs within the "
+          "neighbour skin {:.4g} m); wet a packed sample",
+          pairs == LiquidPairs::kContacts ? "touching" : "close enough", nl.pairs.size(), nl.skin));
     const double reach =
         Capillary::rupture_distance(w.model.capillary, r.volume * d_max / e.share_sum);
     if (reach <= nl.skin || round == 8) break;
@@ -129,8 +132,8 @@ LiquidBalance liquid_balance(const World<D>& w) {
   return b;
 }
 
-template WettingResult wet_grains<2>(World<2>&, double, double);
-template WettingResult wet_grains<3>(World<3>&, double, double);
+template WettingResult wet_grains<2>(World<2>&, double, double, LiquidPairs);
+template WettingResult wet_grains<3>(World<3>&, double, double, LiquidPairs);
 template LiquidBalance liquid_balance<2>(const World<2>&);
 template LiquidBalance liquid_balance<3>(const World<3>&);
 

@@ -10,6 +10,8 @@
 // V / S. Sorting candidates by that key, the set is a prefix (the key grows and V / S shrinks
 // along it), found in one pass. The neighbour-list skin is raised first, if needed, so that
 // every bridge's rupture distance stays inside it: a bridged pair never leaves the list.
+// With LiquidPairs::kContacts only the touching pairs (gap <= 0) are eligible: the same
+// shares over fewer, larger bridges; pairs at a gap get a bridge only by touching later.
 //
 // Rupture and formation (applied by the DEM solver, in pair-list order, after the forces of a
 // step). A bridge breaks when its gap exceeds delta_max; its liquid goes half to each grain's
@@ -35,11 +37,16 @@ struct WettingResult {
   double max_rupture = 0.0;         // the largest bridge rupture distance (m)
 };
 
+// Which pairs the liquid goes to: every pair within its debonding distance (the paper's
+// rule), or the touching pairs only.
+enum class LiquidPairs { kEligible, kContacts };
+
 // Distribute the liquid of `water_content` (kg of liquid per kg of grains) over the sample,
 // replacing any liquid already there. Requires the capillary cohesion model; throws
 // InputError otherwise, or when no pair of grains can hold a bridge.
 template <int D>
-WettingResult wet_grains(World<D>& w, double water_content, double liquid_density);
+WettingResult wet_grains(World<D>& w, double water_content, double liquid_density,
+                         LiquidPairs pairs = LiquidPairs::kEligible);
 
 struct LiquidBalance {
   double bridges = 0.0, films = 0.0, lost = 0.0, total = 0.0;
