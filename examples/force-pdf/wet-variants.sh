@@ -3,7 +3,7 @@
 # force PDF of Richefeu et al. (2009) (examples/force-pdf/wet.toml, their S6 and S7) towards
 # the paper's alpha_w ~ 4 and z = 2.97 + 3.13? Each variant is wet.toml with one thing
 # changed, run by run.sh wet in its own tree; the table at the end puts them side by side.
-# Usage: examples/force-pdf/wet-variants.sh [VARIANT...]   (default: all, ~1-2 minutes each)
+# Usage: examples/force-pdf/wet-variants.sh [VARIANT...]   (default: all; 80-430 s each on one core)
 #   baseline        wet.toml as it is
 #   prep-1pa        compacted dry at 1 Pa instead of 10 Pa before wetting
 #   prep-100pa      compacted dry at 100 Pa (denser, more locked-in compressive forces)

@@ -15,6 +15,8 @@ bulk region written by run.sh; compression positive):
     f0), the truncated-exponential likelihood 1/alpha - 1/(e^alpha - 1) = mean(x), solved by
     bisection;
   z = 2 N_c / N over the whole sample (sable analyze), split into compressive and tensile bonds;
+  the tensile bonds split into those across a gap (the grains' distance above the sum of their
+    radii: a pure capillary pull) and those at contacts, with the share and mean force of each;
   particle pressures p_i (sable analyze, eq. 11-13) over p0 = f0 / <d>^2, with the exponential
     rates of both sides (1 / mean |p| / p0) and the fraction of positive pressures;
   percolation of the positive and negative pressure phases (sable analyze percolation).
