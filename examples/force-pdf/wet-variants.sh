@@ -54,8 +54,8 @@ edits() {
   esac
 }
 
-# prep-mu0, mu0-contacts: wet.toml's first stage alone, frictionless, run first; the variant resumes from
-# its end (run.sh's SABLE_WET_RESUME).
+# prep-mu0, mu0-contacts: wet.toml's first stage alone, frictionless, run first; the variant
+# resumes from its end (run.sh's SABLE_WET_RESUME).
 frictionless_prep() {
   local dir="$1"
   awk '/^\[\[stage\]\]/ { ++n } /^\[output\]/ { n = 0 } n <= 1' "$dir/examples/force-pdf/wet.toml" |
